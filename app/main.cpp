@@ -1,0 +1,6 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/app/Cli.h"
+
+#include <iostream>
+
+int main(int argc, char** argv) { return vsculpt::app::runCli(argc, argv, std::cout, std::cerr); }

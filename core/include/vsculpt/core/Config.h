@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: MIT
+/// @file Config.h
+/// @brief Every tunable of the sculpting core, with the thesis's values as defaults, and the
+/// loader for `configs/sculpt.json` (documented in docs/config.md).
+#pragma once
+
+#include "vsculpt/core/Falloff.h"
+#include "vsculpt/core/Geometry.h"
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace vsculpt::core {
+
+/// Number of tool-size levels (thesis: 7; level 1 smallest, 7 largest).
+inline constexpr int kLevelCount = 7;
+/// The level whose diameter is configured directly (D_k = D_4 * growth^(k-4)).
+inline constexpr int kReferenceLevel = 4;
+
+/// How tool passes turn into skeletons (docs/placement.md).
+enum class PlacementMode {
+    Thesis,  ///< the thesis's stacking rules, including its "cannot re-add where carved" limit
+    Free,    ///< weights sized to what is there: carve then add works at any size combination
+};
+
+const char* toString(PlacementMode m);
+
+/// Support radii given by hand instead of calibrated (the thesis's way).
+struct ManualSupport {
+    double r4Mm = 0.0;                     ///< support radius of level 4, mm
+    std::array<double, kLevelCount> scale{};  ///< L_k, multiplies r4Mm; L_4 must be 1
+};
+
+struct SculptConfig {
+    // tools
+    double d4Mm = 10.0;                ///< diameter of the level-4 tool, mm
+    double growth = 1.5;               ///< r: D_{k+1} / D_k (thesis: a one-digit fraction, 3/2)
+    double spacingOverDiameter = 0.5;  ///< sigma: lattice spacing h_k = sigma * D_k (thesis: 1/2)
+
+    // field
+    double iso = 0.5;  ///< c in f = sum F - c (thesis: 0.5)
+    FalloffParams falloff;
+    std::optional<ManualSupport> manualSupport;  ///< empty: calibrate (the default)
+
+    // placement
+    PlacementMode placement = PlacementMode::Free;
+
+    // initial shape: a sphere, represented by one point skeleton of its own support radius
+    double sphereRadiusMm = 40.0;  ///< 0 starts from empty space
+    Vec3 sphereCenterMm{0.0};
+
+    /// Where the values came from ("built-in defaults" or a file path), for messages.
+    std::string source = "built-in defaults";
+};
+
+/// A user error in a config: message names the file, the line or key, and the reason.
+class ConfigError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+/// Parses JSON (comments allowed) over the defaults: keys absent from the text keep their
+/// default. Unknown keys, wrong types and invalid values throw ConfigError naming
+/// `sourceName`, the key path and the reason.
+SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceName);
+
+/// Reads and parses a file; a missing or unreadable file is a ConfigError too.
+SculptConfig loadConfig(const std::filesystem::path& path);
+
+/// Throws ConfigError("<source>: <key>: <reason>") for the first invalid value.
+void validateConfig(const SculptConfig& cfg);
+
+/// The config file shipped in configs/ (absolute path baked in at build time).
+std::filesystem::path defaultConfigPath();
+
+}  // namespace vsculpt::core

@@ -1,0 +1,62 @@
+// SPDX-License-Identifier: MIT
+/// @file SkeletonStore.h
+/// @brief The locally refined skeleton lattices: one sparse OpenVDB tree per tool level,
+/// holding a weight at each lattice vertex a tool has placed a skeleton on.
+///
+/// A vertex is either empty (inactive) or holds a skeleton with a signed weight w: its field
+/// contribution is w * F_k(|P - v|). Thesis mode uses w = +1 (additive), -1 (subtractive) and
+/// 0 (an additive and a subtractive skeleton stacked, which cancel); free mode uses any w.
+/// Storage is sparse: only 4^3 blocks a tool touched exist (docs/benchmarks.md: bytes/skeleton).
+#pragma once
+
+#include "vsculpt/core/Config.h"
+#include "vsculpt/core/Geometry.h"
+
+#include <functional>
+#include <memory>
+#include <optional>
+
+namespace vsculpt::core {
+
+struct SkeletonEntry {
+    int level = 0;  ///< 1..7
+    LatticeCoord coord;
+    float weight = 0;
+};
+
+class SkeletonStore {
+public:
+    SkeletonStore();
+    ~SkeletonStore();
+    SkeletonStore(SkeletonStore&&) noexcept;
+    SkeletonStore& operator=(SkeletonStore&&) noexcept;
+    SkeletonStore(const SkeletonStore&) = delete;  // deep copies are explicit: clone()
+    SkeletonStore& operator=(const SkeletonStore&) = delete;
+
+    /// A deep copy.
+    SkeletonStore clone() const;
+
+    /// The weight at a vertex, or nullopt when the vertex holds no skeleton.
+    std::optional<float> get(int level, const LatticeCoord& c) const;
+    /// Places (or overwrites) the skeleton at a vertex.
+    void set(int level, const LatticeCoord& c, float weight);
+    /// Empties a vertex (no-op when already empty).
+    void erase(int level, const LatticeCoord& c);
+
+    /// Number of occupied vertices on one level / on all levels.
+    size_t vertexCount(int level) const;
+    size_t vertexCount() const;
+    /// Heap bytes used by the trees (OpenVDB's own accounting).
+    size_t memoryBytes() const;
+
+    /// Visits every occupied vertex, level by level, in the trees' order.
+    void forEach(const std::function<void(const SkeletonEntry&)>& fn) const;
+
+    struct Impl;  ///< defined in src/SkeletonStoreImpl.h; field evaluation reads it directly
+    const Impl& impl() const { return *mImpl; }
+
+private:
+    std::unique_ptr<Impl> mImpl;
+};
+
+}  // namespace vsculpt::core

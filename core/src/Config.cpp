@@ -1,0 +1,233 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/core/Config.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#ifndef VSCULPT_CONFIG_DIR
+#define VSCULPT_CONFIG_DIR "configs"
+#endif
+
+namespace vsculpt::core {
+
+using nlohmann::json;
+
+const char* toString(PlacementMode m) { return m == PlacementMode::Thesis ? "thesis" : "free"; }
+
+std::filesystem::path defaultConfigPath() {
+    return std::filesystem::path(VSCULPT_CONFIG_DIR) / "sculpt.json";
+}
+
+namespace {
+
+/// Walks one JSON object, remembering which keys were read so unknown ones can be reported.
+class Section {
+public:
+    Section(const json& obj, std::string path, const std::string& source)
+        : mObj(obj), mPath(std::move(path)), mSource(source) {
+        if (!mObj.is_object()) fail(mPath.empty() ? "top level" : mPath, "expected an object");
+    }
+
+    [[noreturn]] void fail(const std::string& key, const std::string& why) const {
+        throw ConfigError(mSource + ": " + key + ": " + why);
+    }
+    std::string keyPath(const std::string& key) const {
+        return mPath.empty() ? key : mPath + "." + key;
+    }
+    const json* find(const std::string& key) {
+        mSeen.insert(key);
+        auto it = mObj.find(key);
+        return it == mObj.end() ? nullptr : &*it;
+    }
+    void number(const std::string& key, double& out) {
+        if (const json* v = find(key)) {
+            if (!v->is_number()) fail(keyPath(key), "expected a number, got " + v->dump());
+            out = v->get<double>();
+        }
+    }
+    void vec3(const std::string& key, Vec3& out) {
+        if (const json* v = find(key)) {
+            if (!v->is_array() || v->size() != 3 || !(*v)[0].is_number() ||
+                !(*v)[1].is_number() || !(*v)[2].is_number())
+                fail(keyPath(key), "expected [x, y, z] in mm, got " + v->dump());
+            out = Vec3((*v)[0].get<double>(), (*v)[1].get<double>(), (*v)[2].get<double>());
+        }
+    }
+    Section sub(const std::string& key) {
+        const json* v = find(key);
+        static const json kEmpty = json::object();
+        return Section(v ? *v : kEmpty, keyPath(key), mSource);
+    }
+    bool has(const std::string& key) const { return mObj.contains(key); }
+    void rejectUnknown() const {
+        for (auto it = mObj.begin(); it != mObj.end(); ++it) {
+            if (it.key().rfind("_", 0) == 0) continue;  // "_comment" style keys are allowed
+            if (!mSeen.count(it.key())) fail(keyPath(it.key()), "unknown key");
+        }
+    }
+
+private:
+    const json& mObj;
+    std::string mPath;
+    const std::string& mSource;
+    std::set<std::string> mSeen;
+};
+
+std::string lineColumn(std::string_view text, size_t byte) {
+    size_t line = 1, col = 1;
+    for (size_t i = 0; i < byte && i < text.size(); ++i) {
+        if (text[i] == '\n') {
+            ++line;
+            col = 1;
+        } else {
+            ++col;
+        }
+    }
+    return std::to_string(line) + ":" + std::to_string(col);
+}
+
+}  // namespace
+
+SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceName) {
+    json root;
+    try {
+        root = json::parse(jsonText, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+    } catch (const json::parse_error& e) {
+        // e.byte is 1-based and points just past the offending character.
+        const size_t at = e.byte > 0 ? e.byte - 1 : 0;
+        std::string what = e.what();
+        if (auto p = what.find("parse error"); p != std::string::npos) what = what.substr(p);
+        throw ConfigError(sourceName + ":" + lineColumn(jsonText, at) + ": invalid JSON: " + what);
+    }
+
+    SculptConfig cfg;
+    cfg.source = sourceName;
+    Section top(root, "", sourceName);
+
+    Section tools = top.sub("tools");
+    if (const json* v = tools.find("levels")) {
+        if (!v->is_number_integer() || v->get<int>() != kLevelCount)
+            tools.fail("tools.levels", "vsculpt has exactly 7 tool levels (got " + v->dump() + ")");
+    }
+    tools.number("d4_mm", cfg.d4Mm);
+    tools.number("growth", cfg.growth);
+    tools.number("lattice_spacing_over_diameter", cfg.spacingOverDiameter);
+    tools.rejectUnknown();
+
+    Section field = top.sub("field");
+    field.number("iso", cfg.iso);
+    Section fo = field.sub("falloff");
+    fo.number("f0", cfg.falloff.f0);
+    fo.number("control_u", cfg.falloff.controlU);
+    fo.number("control_value", cfg.falloff.controlValue);
+    fo.number("control_slope", cfg.falloff.controlSlope);
+    fo.rejectUnknown();
+    if (const json* v = field.find("support")) {
+        if (v->is_string()) {
+            if (v->get<std::string>() != "calibrate")
+                field.fail("field.support", "expected \"calibrate\" or an object, got " + v->dump());
+        } else {
+            Section sup(*v, "field.support", sourceName);
+            ManualSupport ms;
+            sup.number("r4_mm", ms.r4Mm);
+            const json* scale = sup.find("scale");
+            if (!scale || !scale->is_array() || scale->size() != kLevelCount)
+                sup.fail("field.support.scale", "expected an array of 7 numbers L_1..L_7");
+            for (int k = 0; k < kLevelCount; ++k) {
+                if (!(*scale)[k].is_number())
+                    sup.fail("field.support.scale[" + std::to_string(k) + "]", "expected a number");
+                ms.scale[k] = (*scale)[k].get<double>();
+            }
+            if (!sup.has("r4_mm")) sup.fail("field.support.r4_mm", "required with a manual scale");
+            sup.rejectUnknown();
+            cfg.manualSupport = ms;
+        }
+    }
+    field.rejectUnknown();
+
+    Section placement = top.sub("placement");
+    if (const json* v = placement.find("mode")) {
+        const std::string m = v->is_string() ? v->get<std::string>() : "";
+        if (m == "thesis")
+            cfg.placement = PlacementMode::Thesis;
+        else if (m == "free")
+            cfg.placement = PlacementMode::Free;
+        else
+            placement.fail("placement.mode", "expected \"thesis\" or \"free\", got " + v->dump());
+    }
+    placement.rejectUnknown();
+
+    Section sphere = top.sub("initial_sphere");
+    sphere.number("radius_mm", cfg.sphereRadiusMm);
+    sphere.vec3("center_mm", cfg.sphereCenterMm);
+    sphere.rejectUnknown();
+
+    // Sections owned by later stages are accepted whole here; their own loaders check them.
+    for (const char* key : {"zoom", "polygonizer", "render", "devices", "interaction"})
+        top.find(key);
+    top.rejectUnknown();
+
+    validateConfig(cfg);
+    return cfg;
+}
+
+SculptConfig loadConfig(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw ConfigError(path.string() + ": cannot open config file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) throw ConfigError(path.string() + ": read error");
+    return parseConfig(text.str(), path.string());
+}
+
+void validateConfig(const SculptConfig& c) {
+    auto fail = [&](const std::string& key, const std::string& why) {
+        throw ConfigError(c.source + ": " + key + ": " + why);
+    };
+    auto num = [](double v) {
+        std::ostringstream s;
+        s << v;
+        return s.str();
+    };
+    if (!(std::isfinite(c.d4Mm) && c.d4Mm > 0 && c.d4Mm <= 1e4))
+        fail("tools.d4_mm", "must be a diameter in mm, > 0 and <= 10000 (got " + num(c.d4Mm) + ")");
+    if (!(std::isfinite(c.growth) && c.growth > 1 && c.growth <= 4))
+        fail("tools.growth", "must be > 1 (levels grow) and <= 4 (got " + num(c.growth) + ")");
+    // A tool sphere of radius D/2 contains a lattice vertex wherever it is iff
+    // D/2 >= (sqrt(3)/2) h, i.e. h/D <= 1/sqrt(3); beyond that strokes can place nothing.
+    const double maxSigma = 1 / std::sqrt(3.0);
+    if (!(std::isfinite(c.spacingOverDiameter) && c.spacingOverDiameter > 0.05 &&
+          c.spacingOverDiameter <= maxSigma + 1e-12))
+        fail("tools.lattice_spacing_over_diameter",
+             "must be in (0.05, " + num(maxSigma) +
+                 "] so every tool position covers a lattice vertex (got " +
+                 num(c.spacingOverDiameter) + ")");
+    if (const std::string why = validateFalloff(c.falloff); !why.empty())
+        fail("field.falloff", why);
+    if (!(c.iso > 0 && c.iso < c.falloff.f0))
+        fail("field.iso", "must lie strictly between 0 and falloff.f0=" + num(c.falloff.f0) +
+                              " (got " + num(c.iso) + ")");
+    if (c.manualSupport) {
+        const ManualSupport& m = *c.manualSupport;
+        if (!(std::isfinite(m.r4Mm) && m.r4Mm > 0)) fail("field.support.r4_mm", "must be > 0");
+        if (std::abs(m.scale[kReferenceLevel - 1] - 1.0) > 1e-12)
+            fail("field.support.scale[3]", "L_4 must be exactly 1 (it is the reference)");
+        for (int k = 0; k < kLevelCount; ++k) {
+            if (!(std::isfinite(m.scale[k]) && m.scale[k] > 0))
+                fail("field.support.scale[" + std::to_string(k) + "]", "must be > 0");
+            if (k > 0 && !(m.scale[k] > m.scale[k - 1]))
+                fail("field.support.scale[" + std::to_string(k) + "]",
+                     "must be larger than L_" + std::to_string(k) + " (larger tools reach further)");
+        }
+    }
+    if (!(std::isfinite(c.sphereRadiusMm) && c.sphereRadiusMm >= 0 && c.sphereRadiusMm <= 1e5))
+        fail("initial_sphere.radius_mm", "must be >= 0 mm (0: start empty) and <= 1e5");
+    if (!isUsablePoint(c.sphereCenterMm))
+        fail("initial_sphere.center_mm", "must be finite and within 1e6 mm of the origin");
+}
+
+}  // namespace vsculpt::core

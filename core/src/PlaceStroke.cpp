@@ -1,0 +1,162 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/core/PlaceStroke.h"
+
+#include "vsculpt/core/EvalField.h"
+#include "vsculpt/core/Sculpture.h"
+#include "vsculpt/core/SweptVertices.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace vsculpt::core {
+
+const char* toString(ToolOp op) { return op == ToolOp::Add ? "add" : "carve"; }
+
+namespace {
+Vec3 vertexPos(const LatticeCoord& c, double spacing) { return Vec3(c.x, c.y, c.z) * spacing; }
+}  // namespace
+
+StrokeBuilder::StrokeBuilder(Sculpture& sculpture, ToolOp op, int level)
+    : mSculpture(sculpture), mOp(op), mLevel(level) {
+    if (level < 1 || level > kLevelCount)
+        throw std::invalid_argument("tool level " + std::to_string(level) + " outside 1..7");
+    const ToolLevel& tl = sculpture.levels().level(level);
+    const int n = int(std::ceil(tl.supportMm / tl.spacingMm));
+    const double r2 = tl.supportMm * tl.supportMm;
+    for (int x = -n; x <= n; ++x)
+        for (int y = -n; y <= n; ++y)
+            for (int z = -n; z <= n; ++z)
+                if ((x * x + y * y + z * z) * tl.spacingMm * tl.spacingMm < r2)
+                    mStencil.push_back(LatticeCoord{x, y, z});
+    mProbe = std::make_unique<FieldProbe>(sculpture);
+}
+
+StrokeBuilder::~StrokeBuilder() = default;
+
+double StrokeBuilder::preStrokeRawSum(const LatticeCoord& v, const Vec3& pos) {
+    double raw = mProbe->rawSum(pos);
+    if (mDeltas.empty()) return raw;
+    const ToolLevel& tl = mSculpture.levels().level(mLevel);
+    const HermiteFalloff& F = mSculpture.levels().falloff();
+    for (const LatticeCoord& o : mStencil) {
+        auto it = mDeltas.find(LatticeCoord{v.x + o.x, v.y + o.y, v.z + o.z});
+        if (it == mDeltas.end()) continue;
+        const double d = std::sqrt(double(o.x * o.x + o.y * o.y + o.z * o.z)) * tl.spacingMm;
+        raw -= double(it->second) * F.value(d / tl.supportMm);
+    }
+    return raw;
+}
+
+EditResult StrokeBuilder::addSample(const Vec3& p) {
+    if (!isUsablePoint(p)) {
+        std::ostringstream msg;
+        msg << "tool sample (" << p.x << ", " << p.y << ", " << p.z
+            << ") mm is not finite or lies beyond 1e6 mm of the object origin";
+        throw std::invalid_argument(msg.str());
+    }
+    const Vec3 a = mLast.value_or(p);
+    mLast = p;
+
+    const ToolLevels& levels = mSculpture.levels();
+    const ToolLevel& tl = levels.level(mLevel);
+    const double radius = 0.5 * tl.diameterMm;
+    const double iso = levels.iso();
+    const bool thesis = mSculpture.config().placement == PlacementMode::Thesis;
+    SkeletonStore& store = mSculpture.store();
+
+    EditResult result;
+    Aabb changed;
+    for (const SweptVertex& sv : sweptVertices(tl.spacingMm, a, p, radius)) {
+        if (!mVisited.insert(sv.coord).second) continue;
+        const Vec3 pos = vertexPos(sv.coord, tl.spacingMm);
+        const std::optional<float> before = store.get(mLevel, sv.coord);
+        std::optional<float> after = before;
+        if (thesis) {
+            // Thesis §3.1.2: add fills empty vertices only; carve stacks a subtractive skeleton
+            // on a same-level additive one, or places one on an empty vertex inside material.
+            if (mOp == ToolOp::Add) {
+                if (!before) after = 1.0f;
+            } else if (before && *before == 1.0f) {
+                after = 0.0f;
+            } else if (!before && preStrokeRawSum(sv.coord, pos) - iso > 0) {
+                after = -1.0f;
+            }
+        } else {
+            // Free mode (docs/placement.md): weights sized to what the field was before the
+            // stroke, divided by the fresh stroke's own coverage at that lateral distance, so
+            // carving brings the field back to that of empty space and adding starts from it.
+            const double raw = preStrokeRawSum(sv.coord, pos);
+            const double lateral = sv.lateralMm / radius;
+            const double gain = levels.strokeGain(lateral);
+            const double w0 = before.value_or(0.0f);
+            if (mOp == ToolOp::Add) {
+                const double deficit = std::max(0.0, -raw);
+                const double w = std::max(w0, strokeProfile(PlacementMode::Free, lateral)) +
+                                 deficit * gain;
+                if (before || w != 0.0) after = float(w);
+            } else if (raw > 0) {
+                after = float(w0 - raw * gain);
+            }
+        }
+        if (after == before) continue;
+        if (after)
+            store.set(mLevel, sv.coord, *after);
+        else
+            store.erase(mLevel, sv.coord);
+        mDeltas[sv.coord] += after.value_or(0.0f) - before.value_or(0.0f);
+        mChanges.push_back(SkeletonChange{mLevel, sv.coord, before, after});
+        changed.expand(pos);
+        ++result.changedVertices;
+    }
+    result.changedRegion = changed.padded(tl.supportMm);
+    return result;
+}
+
+EditResult StrokeBuilder::addSampleWorld(const Vec3& worldPos,
+                                         const RigidTransform& worldFromObject) {
+    return addSample(worldFromObject.inverse().apply(worldPos));
+}
+
+EditResult applyStroke(Sculpture& sculpture, ToolOp op, int level, std::span<const Vec3> path,
+                       std::vector<SkeletonChange>* changes) {
+    StrokeBuilder stroke(sculpture, op, level);
+    EditResult total;
+    for (const Vec3& p : path) {
+        const EditResult r = stroke.addSample(p);
+        total.changedRegion.expand(r.changedRegion);
+        total.changedVertices += r.changedVertices;
+    }
+    if (changes) {
+        auto c = stroke.takeChanges();
+        changes->insert(changes->end(), c.begin(), c.end());
+    }
+    return total;
+}
+
+namespace {
+Aabb restore(Sculpture& s, const SkeletonChange& c, const std::optional<float>& state) {
+    if (state)
+        s.store().set(c.level, c.coord, *state);
+    else
+        s.store().erase(c.level, c.coord);
+    const ToolLevel& tl = s.levels().level(c.level);
+    const Vec3 pos = vertexPos(c.coord, tl.spacingMm);
+    return Aabb{pos, pos}.padded(tl.supportMm);
+}
+}  // namespace
+
+Aabb revertChanges(Sculpture& sculpture, std::span<const SkeletonChange> changes) {
+    Aabb box;
+    for (auto it = changes.rbegin(); it != changes.rend(); ++it)
+        box.expand(restore(sculpture, *it, it->before));
+    return box;
+}
+
+Aabb reapplyChanges(Sculpture& sculpture, std::span<const SkeletonChange> changes) {
+    Aabb box;
+    for (const SkeletonChange& c : changes) box.expand(restore(sculpture, c, c.after));
+    return box;
+}
+
+}  // namespace vsculpt::core

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Installs everything vsculpt needs to build and test on Debian 12 (bookworm).
+# Idempotent: apt-get skips packages that are already installed.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config git
+  # core: OpenVDB (its CMake config also needs Boost.Iostreams), oneTBB, GLM
+  libopenvdb-dev libboost-iostreams-dev libtbb-dev libglm-dev
+  # configs, CLI, logging
+  nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
+  # tests and benchmarks
+  libgtest-dev libgmock-dev libbenchmark-dev
+  clang-format
+)
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${packages[@]}"

@@ -12,8 +12,8 @@ namespace vsculpt::core {
 
 namespace {
 
-constexpr int kAngles = 16;
-constexpr int kOffsets = 8;
+constexpr int kAngles = 8;
+constexpr int kOffsets = 4;
 
 /// Skeleton positions of one straight stroke, long enough that its ends do not reach the
 /// measured middle part, with everything expressed relative to the stroke's origin.
@@ -108,12 +108,34 @@ TubeMeasurement measure(const HermiteFalloff& F, double iso, const Stroke& s, do
 }  // namespace
 
 const std::vector<StrokeLine>& calibrationLines() {
-    static const std::vector<StrokeLine> lines = {
-        {Vec3(1, 0, 0), Vec3(0, 0, 0)},       {Vec3(1, 0, 0), Vec3(0, 0.5, 0.5)},
-        {Vec3(1, 0, 0), Vec3(0, 0.5, 0)},     {Vec3(1, 1, 0), Vec3(0, 0, 0)},
-        {Vec3(1, 1, 0), Vec3(0.25, 0, 0.5)},  {Vec3(1, 1, 1), Vec3(0.1, 0.3, 0)},
-        {Vec3(0.36, 0.48, 0.8), Vec3(0.3, 0.7, 0.2)}, {Vec3(2, 1, 0), Vec3(0, 0.2, 0.4)},
-    };
+    // Four lattice-special lines, then 60 directions spread evenly over the half sphere
+    // (Fibonacci spiral) with origins from a Halton sequence: the average then stands for an
+    // arbitrary stroke, not for the axis-aligned ones.
+    static const std::vector<StrokeLine> lines = [] {
+        std::vector<StrokeLine> l = {
+            {Vec3(1, 0, 0), Vec3(0, 0, 0)},
+            {Vec3(1, 0, 0), Vec3(0, 0.5, 0.5)},
+            {Vec3(1, 1, 0), Vec3(0, 0, 0)},
+            {Vec3(1, 1, 1), Vec3(0, 0, 0)},
+        };
+        auto halton = [](int i, int base) {
+            double f = 1, r = 0;
+            for (; i > 0; i /= base) {
+                f /= base;
+                r += f * (i % base);
+            }
+            return r;
+        };
+        const int n = 60;
+        const double golden = std::numbers::pi * (3 - std::sqrt(5.0));
+        for (int i = 0; i < n; ++i) {
+            const double z = 1 - (i + 0.5) / n;  // upper half sphere
+            const double r = std::sqrt(1 - z * z);
+            const Vec3 dir(r * std::cos(golden * i), r * std::sin(golden * i), z);
+            l.push_back({dir, Vec3(halton(i + 1, 2), halton(i + 1, 3), halton(i + 1, 5))});
+        }
+        return l;
+    }();
     return lines;
 }
 

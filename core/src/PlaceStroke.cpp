@@ -68,9 +68,14 @@ EditResult StrokeBuilder::addSample(const Vec3& p) {
     EditResult result;
     Aabb changed;
     for (const SweptVertex& sv : sweptVertices(tl.spacingMm, a, p, radius)) {
-        if (!mVisited.insert(sv.coord).second) continue;
+        const std::optional<float> current = store.get(mLevel, sv.coord);
+        auto [it, first] = mVisited.try_emplace(sv.coord, Visit{current, sv.lateralMm});
+        if (!first) {
+            if (thesis || sv.lateralMm >= it->second.lateral) continue;
+            it->second.lateral = sv.lateralMm;
+        }
+        const std::optional<float> before = it->second.preStroke;
         const Vec3 pos = vertexPos(sv.coord, tl.spacingMm);
-        const std::optional<float> before = store.get(mLevel, sv.coord);
         std::optional<float> after = before;
         if (thesis) {
             // Thesis §3.1.2: add fills empty vertices only; carve stacks a subtractive skeleton
@@ -83,29 +88,27 @@ EditResult StrokeBuilder::addSample(const Vec3& p) {
                 after = -1.0f;
             }
         } else {
-            // Free mode (docs/placement.md): weights sized to what the field was before the
-            // stroke, divided by the fresh stroke's own coverage at that lateral distance, so
-            // carving brings the field back to that of empty space and adding starts from it.
+            // Free mode (docs/placement.md): add raises the field at the vertex to at least
+            // what a fresh stroke gives there, carve lowers it to at most empty space's (0).
+            // The change is spread as weights scaled by the stroke's gain at this lateral
+            // distance, so a uniform change over the swept tube comes out uniform. The field
+            // is the one before the stroke, so sample spacing does not matter.
             const double raw = preStrokeRawSum(sv.coord, pos);
             const double lateral = sv.lateralMm / radius;
             const double gain = levels.strokeGain(lateral);
             const double w0 = before.value_or(0.0f);
-            if (mOp == ToolOp::Add) {
-                const double deficit = std::max(0.0, -raw);
-                const double w = std::max(w0, strokeProfile(PlacementMode::Free, lateral)) +
-                                 deficit * gain;
-                if (before || w != 0.0) after = float(w);
-            } else if (raw > 0) {
-                after = float(w0 - raw * gain);
-            }
+            const double change = mOp == ToolOp::Add
+                                      ? std::max(0.0, levels.strokeCoverage(lateral) - raw)
+                                      : -std::max(0.0, raw);
+            if (change != 0.0 && gain > 0.0) after = float(w0 + change * gain);
         }
-        if (after == before) continue;
+        if (after == current) continue;
         if (after)
             store.set(mLevel, sv.coord, *after);
         else
             store.erase(mLevel, sv.coord);
-        mDeltas[sv.coord] += after.value_or(0.0f) - before.value_or(0.0f);
-        mChanges.push_back(SkeletonChange{mLevel, sv.coord, before, after});
+        mDeltas[sv.coord] += after.value_or(0.0f) - current.value_or(0.0f);
+        mChanges.push_back(SkeletonChange{mLevel, sv.coord, current, after});
         changed.expand(pos);
         ++result.changedVertices;
     }

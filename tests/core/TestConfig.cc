@@ -1,1 +1,130 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/core/Config.h"
 
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace vsculpt::core;
+
+namespace {
+
+std::string errorOf(const std::string& text) {
+    try {
+        parseConfig(text, "test.json");
+    } catch (const ConfigError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(Config, ShippedFileEqualsBuiltInDefaults) {
+    const SculptConfig file = loadConfig(defaultConfigPath());
+    const SculptConfig def;
+    EXPECT_EQ(file.d4Mm, def.d4Mm);
+    EXPECT_EQ(file.growth, def.growth);
+    EXPECT_EQ(file.spacingOverDiameter, def.spacingOverDiameter);
+    EXPECT_EQ(file.iso, def.iso);
+    EXPECT_EQ(file.falloff.f0, def.falloff.f0);
+    EXPECT_EQ(file.falloff.controlU, def.falloff.controlU);
+    EXPECT_EQ(file.falloff.controlValue, def.falloff.controlValue);
+    EXPECT_EQ(file.falloff.controlSlope, def.falloff.controlSlope);
+    EXPECT_FALSE(file.manualSupport.has_value());
+    EXPECT_EQ(file.placement, def.placement);
+    EXPECT_EQ(file.sphereRadiusMm, def.sphereRadiusMm);
+    EXPECT_EQ(file.sphereCenterMm, def.sphereCenterMm);
+    // The thesis's values.
+    EXPECT_EQ(def.growth, 1.5);
+    EXPECT_EQ(def.spacingOverDiameter, 0.5);
+    EXPECT_EQ(def.iso, 0.5);
+}
+
+TEST(Config, ParsesEveryKey) {
+    const SculptConfig c = parseConfig(R"({
+        "tools": {"levels": 7, "d4_mm": 12, "growth": 1.25, "lattice_spacing_over_diameter": 0.4},
+        "field": {"iso": 0.4, "falloff": {"f0": 1.2, "control_u": 0.4, "control_value": 0.6,
+                  "control_slope": -1.0},
+                  "support": {"r4_mm": 7, "scale": [0.2, 0.4, 0.7, 1, 1.5, 2, 3]}},
+        "placement": {"mode": "thesis"},
+        "initial_sphere": {"radius_mm": 0, "center_mm": [1, 2, 3]}
+    })",
+                                       "x.json");
+    EXPECT_EQ(c.d4Mm, 12);
+    EXPECT_EQ(c.growth, 1.25);
+    EXPECT_EQ(c.spacingOverDiameter, 0.4);
+    EXPECT_EQ(c.iso, 0.4);
+    EXPECT_EQ(c.falloff.f0, 1.2);
+    EXPECT_EQ(c.falloff.controlSlope, -1.0);
+    ASSERT_TRUE(c.manualSupport);
+    EXPECT_EQ(c.manualSupport->r4Mm, 7);
+    EXPECT_EQ(c.manualSupport->scale[6], 3);
+    EXPECT_EQ(c.placement, PlacementMode::Thesis);
+    EXPECT_EQ(c.sphereRadiusMm, 0);
+    EXPECT_EQ(c.sphereCenterMm, Vec3(1, 2, 3));
+    EXPECT_EQ(c.source, "x.json");
+}
+
+TEST(Config, SyntaxErrorsNameFileLineAndColumn) {
+    const std::string e = errorOf("{\n  \"tools\": {\n    \"growth\": 1.5,,\n  }\n}");
+    EXPECT_NE(e.find("test.json:3:"), std::string::npos) << e;
+    EXPECT_NE(e.find("invalid JSON"), std::string::npos) << e;
+}
+
+struct Bad {
+    const char* json;
+    const char* expected;  // substring of the message: the key and the reason
+};
+
+TEST(Config, BadValuesNameTheKeyAndReason) {
+    const Bad cases[] = {
+        {R"({"tools": {"grwoth": 1.5}})", "test.json: tools.grwoth: unknown key"},
+        {R"({"tolos": {}})", "test.json: tolos: unknown key"},
+        {R"({"tools": {"d4_mm": "ten"}})", "tools.d4_mm: expected a number"},
+        {R"({"tools": {"d4_mm": -1}})", "tools.d4_mm: must be a diameter"},
+        {R"({"tools": {"levels": 5}})", "tools.levels: vsculpt has exactly 7"},
+        {R"({"tools": {"growth": 1.0}})", "tools.growth: must be > 1"},
+        {R"({"tools": {"lattice_spacing_over_diameter": 0.7}})",
+         "tools.lattice_spacing_over_diameter: must be in"},
+        {R"({"field": {"iso": 1.0}})", "field.iso: must lie strictly between 0 and"},
+        {R"({"field": {"falloff": {"control_slope": -3.5}}})",
+         "field.falloff: control_slope must lie in [-3, 0]"},
+        {R"({"field": {"falloff": {"control_slope": 0.5}}})", "field.falloff: control_slope"},
+        {R"({"field": {"falloff": {"control_u": 1.2}}})", "field.falloff: control_point.u"},
+        {R"({"field": {"support": "auto"}})", "field.support: expected \"calibrate\""},
+        {R"({"field": {"support": {"r4_mm": 5, "scale": [1, 2]}}})",
+         "field.support.scale: expected an array of 7"},
+        {R"({"field": {"support": {"r4_mm": 5, "scale": [0.1, 0.2, 0.3, 1, 0.9, 2, 3]}}})",
+         "field.support.scale[4]: must be larger than L_4"},
+        {R"({"field": {"support": {"r4_mm": 5, "scale": [0.1, 0.2, 0.3, 1.1, 1.5, 2, 3]}}})",
+         "field.support.scale[3]: L_4 must be exactly 1"},
+        {R"({"placement": {"mode": "sculpt"}})", "placement.mode: expected \"thesis\" or \"free\""},
+        {R"({"initial_sphere": {"radius_mm": -4}})", "initial_sphere.radius_mm: must be >= 0"},
+        {R"({"initial_sphere": {"center_mm": [0, 0]}})", "initial_sphere.center_mm: expected [x, y, z]"},
+        {R"([1, 2])", "top level: expected an object"},
+    };
+    for (const Bad& b : cases) {
+        const std::string e = errorOf(b.json);
+        EXPECT_NE(e.find(b.expected), std::string::npos)
+            << "input " << b.json << "\n  message: " << e << "\n  expected: " << b.expected;
+    }
+}
+
+TEST(Config, MissingFileIsAConfigErrorNamingThePath) {
+    try {
+        loadConfig("/nonexistent/vsculpt.json");
+        FAIL() << "no error";
+    } catch (const ConfigError& e) {
+        EXPECT_NE(std::string(e.what()).find("/nonexistent/vsculpt.json: cannot open"),
+                  std::string::npos);
+    }
+}
+
+TEST(Config, CommentsAndLaterStageSectionsAreAccepted) {
+    const SculptConfig c = parseConfig(
+        "// header\n{ /* inline */ \"tools\": {\"d4_mm\": 8}, \"zoom\": {\"levels\": 5} }",
+        "c.json");
+    EXPECT_EQ(c.d4Mm, 8);
+}
+
+}  // namespace

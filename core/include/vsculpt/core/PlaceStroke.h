@@ -15,7 +15,6 @@
 #include <optional>
 #include <span>
 #include <unordered_map>
-#include <unordered_set>
 #include <vector>
 
 namespace vsculpt::core {
@@ -63,7 +62,13 @@ private:
     ToolOp mOp;
     int mLevel;
     std::optional<Vec3> mLast;
-    std::unordered_set<LatticeCoord, LatticeCoordHash> mVisited;
+    struct Visit {
+        std::optional<float> preStroke;  // the vertex's state before this stroke
+        double lateral;                  // closest approach of the stroke so far, mm
+    };
+    // A vertex is decided again only when the path comes closer to it (free mode weights
+    // depend on that distance); decisions always start from the pre-stroke state.
+    std::unordered_map<LatticeCoord, Visit, LatticeCoordHash> mVisited;
     std::unordered_map<LatticeCoord, float, LatticeCoordHash> mDeltas;  // weight change per vertex
     std::vector<LatticeCoord> mStencil;  // lattice offsets within the level's support radius
     std::vector<SkeletonChange> mChanges;

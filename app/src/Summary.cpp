@@ -26,21 +26,23 @@ void printSummary(const core::Sculpture& s, std::ostream& out) {
     out << "vsculpt 0.1.0: initial sculpture (headless summary)\n";
     out << "config: " << cfg.source << "\n";
     out << "placement mode: " << core::toString(cfg.placement) << "\n";
-    out << fmt("field: f = sum w F(d/R_k) - c, c = %.3g; F: f0 = %.3g, control point (u %.3g, "
-               "F %.3g), slope %.3g\n",
-               cfg.iso, fp.f0, fp.controlU, fp.controlValue, fp.controlSlope);
+    out << fmt(
+        "field: f = sum w F(d/R_k) - c, c = %.3g; F: f0 = %.3g, control point (u %.3g, "
+        "F %.3g), slope %.3g\n",
+        cfg.iso, fp.f0, fp.controlU, fp.controlValue, fp.controlSlope);
     out << "level  diameter_mm  spacing_mm  support_mm  L_k\n";
     for (int k = 1; k <= core::kLevelCount; ++k) {
         const core::ToolLevel& l = lv.level(k);
-        out << fmt("%5d  %11.3f  %10.3f  %10.3f  %.4f\n", k, l.diameterMm, l.spacingMm,
-                   l.supportMm, l.scale);
+        out << fmt("%5d  %11.3f  %10.3f  %10.3f  %.4f\n", k, l.diameterMm, l.spacingMm, l.supportMm,
+                   l.scale);
     }
     if (lv.calibrated()) {
         const core::CalibrationReport& r = lv.calibration();
-        out << fmt("support calibrated: R_k = %.6f D_k; straight-stroke tube radius vs D_k/2 over "
-                   "%d directions: mean error %.2e, worst direction %.2f%%, local ripple %.1f%%\n",
-                   r.supportOverDiameter, r.directions, r.meanRadiusError,
-                   100 * r.worstDirectionError, 100 * r.maxLocalDeviation);
+        out << fmt(
+            "support calibrated: R_k = %.6f D_k; straight-stroke tube radius vs D_k/2 over "
+            "%d directions: mean error %.2e, worst direction %.2f%%, local ripple %.1f%%\n",
+            r.supportOverDiameter, r.directions, r.meanRadiusError, 100 * r.worstDirectionError,
+            100 * r.maxLocalDeviation);
     } else {
         out << "support radii set by hand (field.support), not calibrated\n";
     }
@@ -51,10 +53,11 @@ void printSummary(const core::Sculpture& s, std::ostream& out) {
         core::FieldProbe probe(s);
         const core::Vec3 center = cfg.sphereCenterMm;
         const core::Vec3 onSurface = center + core::Vec3(cfg.sphereRadiusMm, 0, 0);
-        out << fmt("initial sphere: radius %.3f mm at (%.3f, %.3f, %.3f); f(center) = %.4f, "
-                   "f(surface point) = %.2e\n",
-                   cfg.sphereRadiusMm, center.x, center.y, center.z, probe.value(center),
-                   probe.value(onSurface));
+        out << fmt(
+            "initial sphere: radius %.3f mm at (%.3f, %.3f, %.3f); f(center) = %.4f, "
+            "f(surface point) = %.2e\n",
+            cfg.sphereRadiusMm, center.x, center.y, center.z, probe.value(center),
+            probe.value(onSurface));
     } else {
         out << "initial shape: empty space\n";
     }

@@ -44,8 +44,8 @@ Stroke makeStroke(PlacementMode mode, double diameter, double spacing, double ma
     return s;
 }
 
-double rawSum(const HermiteFalloff& F, const std::vector<Vec3>& skel,
-              const std::vector<double>& w, double support, const Vec3& p) {
+double rawSum(const HermiteFalloff& F, const std::vector<Vec3>& skel, const std::vector<double>& w,
+              double support, const Vec3& p) {
     double sum = 0;
     const double s2 = support * support;
     for (size_t i = 0; i < skel.size(); ++i) {
@@ -58,7 +58,8 @@ double rawSum(const HermiteFalloff& F, const std::vector<Vec3>& skel,
 
 /// Radius of the iso-surface along the ray q + r e (r >= 0): the first crossing.
 double isoRadius(const HermiteFalloff& F, double iso, const std::vector<Vec3>& skel,
-                 const std::vector<double>& w, double support, const Vec3& q, const Vec3& e, double step, double rMax) {
+                 const std::vector<double>& w, double support, const Vec3& q, const Vec3& e,
+                 double step, double rMax) {
     auto g = [&](double r) { return rawSum(F, skel, w, support, q + r * e) - iso; };
     if (g(0) <= 0) return 0;
     double lo = 0, hi = step;
@@ -157,7 +158,8 @@ CalibrationResult calibrateSupport(PlacementMode mode, const HermiteFalloff& F, 
 
     auto meanRadius = [&](double R) {
         double sum = 0;
-        for (const Stroke& s : strokes) sum += measure(F, iso, s, D, h, R).mean;
+        for (const Stroke& s : strokes)
+            sum += measure(F, iso, s, D, h, R).mean;
         return sum / strokes.size();
     };
     double lo = loBound, hi = hiBound;
@@ -178,8 +180,9 @@ CalibrationResult calibrateSupport(PlacementMode mode, const HermiteFalloff& F, 
         total += m.mean;
         out.report.worstDirectionError =
             std::max(out.report.worstDirectionError, std::abs(m.mean - rho) / rho);
-        out.report.maxLocalDeviation = std::max(
-            {out.report.maxLocalDeviation, std::abs(m.min - rho) / rho, std::abs(m.max - rho) / rho});
+        out.report.maxLocalDeviation =
+            std::max({out.report.maxLocalDeviation, std::abs(m.min - rho) / rho,
+                      std::abs(m.max - rho) / rho});
     }
     out.report.meanRadiusError = std::abs(total / strokes.size() - rho) / rho;
 
@@ -224,9 +227,12 @@ std::vector<double> strokeCoverageTable(PlacementMode mode, const HermiteFalloff
             if (k < i) l = k;
             if (k > i && r < 0) r = k;
         }
-        if (l < 0) table[i] = table[r];
-        else if (r < 0) table[i] = table[l];
-        else table[i] = table[l] + (table[r] - table[l]) * (i - l) / (r - l);
+        if (l < 0)
+            table[i] = table[r];
+        else if (r < 0)
+            table[i] = table[l];
+        else
+            table[i] = table[l] + (table[r] - table[l]) * (i - l) / (r - l);
     }
     return table;
 }

@@ -16,7 +16,9 @@ namespace vsculpt::core {
 
 using nlohmann::json;
 
-const char* toString(PlacementMode m) { return m == PlacementMode::Thesis ? "thesis" : "free"; }
+const char* toString(PlacementMode m) {
+    return m == PlacementMode::Thesis ? "thesis" : "free";
+}
 
 std::filesystem::path defaultConfigPath() {
     return std::filesystem::path(VSCULPT_CONFIG_DIR) / "sculpt.json";
@@ -26,7 +28,7 @@ namespace {
 
 /// Walks one JSON object, remembering which keys were read so unknown ones can be reported.
 class Section {
-public:
+  public:
     Section(const json& obj, std::string path, const std::string& source)
         : mObj(obj), mPath(std::move(path)), mSource(source) {
         if (!mObj.is_object()) fail(mPath.empty() ? "top level" : mPath, "expected an object");
@@ -51,8 +53,8 @@ public:
     }
     void vec3(const std::string& key, Vec3& out) {
         if (const json* v = find(key)) {
-            if (!v->is_array() || v->size() != 3 || !(*v)[0].is_number() ||
-                !(*v)[1].is_number() || !(*v)[2].is_number())
+            if (!v->is_array() || v->size() != 3 || !(*v)[0].is_number() || !(*v)[1].is_number() ||
+                !(*v)[2].is_number())
                 fail(keyPath(key), "expected [x, y, z] in mm, got " + v->dump());
             out = Vec3((*v)[0].get<double>(), (*v)[1].get<double>(), (*v)[2].get<double>());
         }
@@ -70,7 +72,7 @@ public:
         }
     }
 
-private:
+  private:
     const json& mObj;
     std::string mPath;
     const std::string& mSource;
@@ -129,7 +131,8 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
     if (const json* v = field.find("support")) {
         if (v->is_string()) {
             if (v->get<std::string>() != "calibrate")
-                field.fail("field.support", "expected \"calibrate\" or an object, got " + v->dump());
+                field.fail("field.support",
+                           "expected \"calibrate\" or an object, got " + v->dump());
         } else {
             Section sup(*v, "field.support", sourceName);
             ManualSupport ms;
@@ -220,8 +223,9 @@ void validateConfig(const SculptConfig& c) {
             if (!(std::isfinite(m.scale[k]) && m.scale[k] > 0))
                 fail("field.support.scale[" + std::to_string(k) + "]", "must be > 0");
             if (k > 0 && !(m.scale[k] > m.scale[k - 1]))
-                fail("field.support.scale[" + std::to_string(k) + "]",
-                     "must be larger than L_" + std::to_string(k) + " (larger tools reach further)");
+                fail(
+                    "field.support.scale[" + std::to_string(k) + "]",
+                    "must be larger than L_" + std::to_string(k) + " (larger tools reach further)");
         }
     }
     if (!(std::isfinite(c.sphereRadiusMm) && c.sphereRadiusMm >= 0 && c.sphereRadiusMm <= 1e5))

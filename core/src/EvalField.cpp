@@ -12,13 +12,38 @@ namespace vsculpt::core {
 
 namespace {
 
-using Accessor = openvdb::tree::ValueAccessor<const SkeletonTree>;
-
 struct LevelView {
-    const SkeletonTree* tree = nullptr;
     double spacing = 0, invSpacing = 0, support = 0, support2 = 0, invSupport = 0;
-    openvdb::CoordBBox bounds;  // occupied index bounds, grown by the support in index units
-    bool empty = true;
+};
+
+/// Direct-mapped cache of brick lookups: queries from one thread are spatially coherent
+/// (polygonizer sweeps, stroke placement), so the same few bricks are asked for again and
+/// again. Entries are tagged with the store's generation, so a brick created after a
+/// "not there" answer is never missed.
+struct BrickCache {
+    static constexpr size_t kSize = 1024;
+    struct Entry {
+        uint64_t key = ~uint64_t(0);
+        uint64_t generation = ~uint64_t(0);
+        int64_t slot = -1;
+        int level = -1;
+    };
+    std::vector<Entry> entries = std::vector<Entry>(kSize);
+
+    int64_t find(const LevelBricks& L, int level, int32_t bx, int32_t by, int32_t bz,
+                 uint64_t generation) {
+        const uint64_t key = brickKey(bx, by, bz);
+        const uint64_t h =
+            (key ^ (uint64_t(level) * 0x9E3779B97F4A7C15ull)) * 0xBF58476D1CE4E5B9ull;
+        Entry& e = entries[(h >> 40) & (kSize - 1)];
+        if (e.key == key && e.level == level && (e.slot >= 0 || e.generation == generation))
+            return e.slot;
+        e.key = key;
+        e.level = level;
+        e.generation = generation;
+        e.slot = L.find(bx, by, bz);
+        return e.slot;
+    }
 };
 
 }  // namespace
@@ -27,30 +52,18 @@ struct FieldProbe::Impl {
     const Sculpture& sculpture;
     const HermiteFalloff& falloff;
     std::array<LevelView, kLevelCount> levels;
-    std::vector<std::optional<Accessor>> accessors;
+    BrickCache cache;
 
-    explicit Impl(const Sculpture& s)
-        : sculpture(s), falloff(s.levels().falloff()), accessors(kLevelCount) {
-        const SkeletonStore::Impl& store = s.store().impl();
+    explicit Impl(const Sculpture& s) : sculpture(s), falloff(s.levels().falloff()) {
         for (int i = 0; i < kLevelCount; ++i) {
             const ToolLevel& tl = s.levels().level(i + 1);
             LevelView& v = levels[i];
-            v.tree = &store.trees[i];
             v.spacing = tl.spacingMm;
             v.invSpacing = 1.0 / tl.spacingMm;
             v.support = tl.supportMm;
             v.support2 = tl.supportMm * tl.supportMm;
             v.invSupport = 1.0 / tl.supportMm;
-            accessors[i].emplace(*v.tree);
         }
-    }
-
-    // Refreshed per query: edits may have happened since the probe was made.
-    void refreshBounds(int i) {
-        const SkeletonStore::Impl& store = sculpture.store().impl();
-        LevelView& v = levels[i];
-        v.empty = store.counts[i] == 0;
-        if (!v.empty) v.bounds = store.bounds[i];
     }
 
     template <bool WithGradient>
@@ -67,48 +80,43 @@ struct FieldProbe::Impl {
                 if (r > 0) *grad += d * (s.weight * falloff.derivative(u) / (s.supportMm * r));
             }
         }
+        const SkeletonStore::Impl& store = sculpture.store().impl();
         for (int i = 0; i < kLevelCount; ++i) {
-            refreshBounds(i);
+            const LevelBricks& L = store.levels[i];
+            if (L.count == 0) continue;
             const LevelView& v = levels[i];
-            if (v.empty) continue;
             // Lattice index range whose vertices can lie within the support of p.
-            const int x0 = int(std::floor((p.x - v.support) * v.invSpacing));
-            const int y0 = int(std::floor((p.y - v.support) * v.invSpacing));
-            const int z0 = int(std::floor((p.z - v.support) * v.invSpacing));
-            const int x1 = int(std::ceil((p.x + v.support) * v.invSpacing));
-            const int y1 = int(std::ceil((p.y + v.support) * v.invSpacing));
-            const int z1 = int(std::ceil((p.z + v.support) * v.invSpacing));
-            const openvdb::Coord& bmin = v.bounds.min();
-            const openvdb::Coord& bmax = v.bounds.max();
-            if (x1 < bmin.x() || x0 > bmax.x() || y1 < bmin.y() || y0 > bmax.y() ||
-                z1 < bmin.z() || z0 > bmax.z())
-                continue;
-            Accessor& acc = *accessors[i];
-            constexpr int kMask = ~int(SkeletonLeaf::DIM - 1);
-            for (int lx = x0 & kMask; lx <= x1; lx += SkeletonLeaf::DIM)
-                for (int ly = y0 & kMask; ly <= y1; ly += SkeletonLeaf::DIM)
-                    for (int lz = z0 & kMask; lz <= z1; lz += SkeletonLeaf::DIM) {
-                        const SkeletonLeaf* leaf = acc.probeConstLeaf(openvdb::Coord(lx, ly, lz));
-                        if (!leaf) continue;
-                        uint64_t bits = leaf->getValueMask().template getWord<uint64_t>(0);
-                        const float* w = leaf->buffer().data();
-                        while (bits) {
+            const int x0 = std::max(int(std::floor((p.x - v.support) * v.invSpacing)), L.min[0]);
+            const int y0 = std::max(int(std::floor((p.y - v.support) * v.invSpacing)), L.min[1]);
+            const int z0 = std::max(int(std::floor((p.z - v.support) * v.invSpacing)), L.min[2]);
+            const int x1 = std::min(int(std::ceil((p.x + v.support) * v.invSpacing)), L.max[0]);
+            const int y1 = std::min(int(std::ceil((p.y + v.support) * v.invSpacing)), L.max[1]);
+            const int z1 = std::min(int(std::ceil((p.z + v.support) * v.invSpacing)), L.max[2]);
+            if (x0 > x1 || y0 > y1 || z0 > z1) continue;
+            for (int bx = x0 >> 2; bx <= x1 >> 2; ++bx)
+                for (int by = y0 >> 2; by <= y1 >> 2; ++by)
+                    for (int bz = z0 >> 2; bz <= z1 >> 2; ++bz) {
+                        const int64_t slot = cache.find(L, i, bx, by, bz, store.generation);
+                        if (slot < 0) continue;
+                        const Brick& b = L.bricks[size_t(slot)];
+                        const float* w = L.pool.data() + b.offset;
+                        uint64_t bits = b.mask;
+                        for (int r = 0; bits; ++r) {
                             const int n = std::countr_zero(bits);
                             bits &= bits - 1;
-                            // Leaf offset layout: x * 16 + y * 4 + z.
-                            const Vec3 pos((lx + (n >> 4)) * v.spacing,
-                                           (ly + ((n >> 2) & 3)) * v.spacing,
-                                           (lz + (n & 3)) * v.spacing);
+                            const Vec3 pos((b.ox + (n >> 4)) * v.spacing,
+                                           (b.oy + ((n >> 2) & 3)) * v.spacing,
+                                           (b.oz + (n & 3)) * v.spacing);
                             const Vec3 d = p - pos;
                             const double r2 = glm::dot(d, d);
-                            if (r2 >= v.support2 || w[n] == 0.0f) continue;
-                            const double r = std::sqrt(r2);
-                            const double u = r * v.invSupport;
-                            sum += double(w[n]) * falloff.value(u);
+                            if (r2 >= v.support2 || w[r] == 0.0f) continue;
+                            const double dist = std::sqrt(r2);
+                            const double u = dist * v.invSupport;
+                            sum += double(w[r]) * falloff.value(u);
                             if constexpr (WithGradient) {
-                                if (r > 0)
-                                    *grad +=
-                                        d * (double(w[n]) * falloff.derivative(u) * v.invSupport / r);
+                                if (dist > 0)
+                                    *grad += d * (double(w[r]) * falloff.derivative(u) *
+                                                  v.invSupport / dist);
                             }
                         }
                     }
@@ -122,7 +130,9 @@ FieldProbe::FieldProbe(const Sculpture& sculpture)
 FieldProbe::~FieldProbe() = default;
 FieldProbe::FieldProbe(FieldProbe&&) noexcept = default;
 
-double FieldProbe::value(const Vec3& p) { return mImpl->accumulate<false>(p, nullptr) - mIso; }
+double FieldProbe::value(const Vec3& p) {
+    return mImpl->accumulate<false>(p, nullptr) - mIso;
+}
 
 FieldSample FieldProbe::sample(const Vec3& p) {
     FieldSample s;
@@ -136,7 +146,8 @@ void evalFieldBatch(const Sculpture& sculpture, std::span<const Vec3> points,
         throw std::invalid_argument("evalFieldBatch: output spans must match the point count");
     FieldProbe probe(sculpture);
     if (gradients.empty()) {
-        for (size_t i = 0; i < points.size(); ++i) values[i] = probe.value(points[i]);
+        for (size_t i = 0; i < points.size(); ++i)
+            values[i] = probe.value(points[i]);
     } else {
         for (size_t i = 0; i < points.size(); ++i) {
             const FieldSample s = probe.sample(points[i]);
@@ -157,7 +168,8 @@ FieldSample evalFieldBruteForce(const Sculpture& sculpture, const Vec3& p) {
         sum += w * F.value(r / support);
         if (r > 0) out.gradient += d * (w * F.derivative(r / support) / (support * r));
     };
-    for (const PointSkeleton& s : sculpture.pointSkeletons()) add(s.centerMm, s.supportMm, s.weight);
+    for (const PointSkeleton& s : sculpture.pointSkeletons())
+        add(s.centerMm, s.supportMm, s.weight);
     sculpture.store().forEach([&](const SkeletonEntry& e) {
         const ToolLevel& tl = sculpture.levels().level(e.level);
         add(Vec3(e.coord.x, e.coord.y, e.coord.z) * tl.spacingMm, tl.supportMm, e.weight);

@@ -22,8 +22,7 @@ std::string validateFalloff(const FalloffParams& p) {
         const double secant1 = (p.controlValue - p.f0) / p.controlU;
         const double secant2 = -p.controlValue / (1 - p.controlU);
         const double steepest = 3 * std::max(secant1, secant2);
-        if (!(std::isfinite(p.controlSlope) && p.controlSlope <= 0 &&
-              p.controlSlope >= steepest)) {
+        if (!(std::isfinite(p.controlSlope) && p.controlSlope <= 0 && p.controlSlope >= steepest)) {
             why << "control_slope must lie in [" << steepest << ", 0] for F to stay monotone"
                 << " with this control point (got " << p.controlSlope << ")";
         }

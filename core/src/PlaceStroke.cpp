@@ -11,10 +11,14 @@
 
 namespace vsculpt::core {
 
-const char* toString(ToolOp op) { return op == ToolOp::Add ? "add" : "carve"; }
+const char* toString(ToolOp op) {
+    return op == ToolOp::Add ? "add" : "carve";
+}
 
 namespace {
-Vec3 vertexPos(const LatticeCoord& c, double spacing) { return Vec3(c.x, c.y, c.z) * spacing; }
+Vec3 vertexPos(const LatticeCoord& c, double spacing) {
+    return Vec3(c.x, c.y, c.z) * spacing;
+}
 }  // namespace
 
 StrokeBuilder::StrokeBuilder(Sculpture& sculpture, ToolOp op, int level)
@@ -158,7 +162,8 @@ Aabb revertChanges(Sculpture& sculpture, std::span<const SkeletonChange> changes
 
 Aabb reapplyChanges(Sculpture& sculpture, std::span<const SkeletonChange> changes) {
     Aabb box;
-    for (const SkeletonChange& c : changes) box.expand(restore(sculpture, c, c.after));
+    for (const SkeletonChange& c : changes)
+        box.expand(restore(sculpture, c, c.after));
     return box;
 }
 

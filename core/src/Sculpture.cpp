@@ -10,8 +10,8 @@ namespace vsculpt::core {
 std::shared_ptr<const ToolLevels> toolLevelsFor(const SculptConfig& cfg) {
     // Calibration takes a fraction of a second; sessions and tests build many sculptures from
     // the same parameters, so the table is shared per parameter set.
-    using Key = std::tuple<int, double, double, double, double, double, double, double, double, double,
-                           std::array<double, kLevelCount>>;
+    using Key = std::tuple<int, double, double, double, double, double, double, double, double,
+                           double, std::array<double, kLevelCount>>;
     static std::mutex mutex;
     static std::map<Key, std::shared_ptr<const ToolLevels>> cache;
     const ManualSupport ms = cfg.manualSupport.value_or(ManualSupport{});
@@ -44,7 +44,9 @@ Sculpture::Sculpture(const SculptConfig& cfg) : mConfig(cfg) {
     }
 }
 
-void Sculpture::addPointSkeleton(const PointSkeleton& s) { mPoints.push_back(s); }
+void Sculpture::addPointSkeleton(const PointSkeleton& s) {
+    mPoints.push_back(s);
+}
 
 SkeletonCounts Sculpture::counts() const {
     SkeletonCounts c;
@@ -69,7 +71,8 @@ SkeletonCounts Sculpture::counts() const {
 
 Aabb Sculpture::supportBounds() const {
     Aabb box;
-    for (const PointSkeleton& p : mPoints) box.expand(Aabb{p.centerMm, p.centerMm}.padded(p.supportMm));
+    for (const PointSkeleton& p : mPoints)
+        box.expand(Aabb{p.centerMm, p.centerMm}.padded(p.supportMm));
     mStore.forEach([&](const SkeletonEntry& e) {
         const ToolLevel& l = mLevels->level(e.level);
         const Vec3 pos = Vec3(e.coord.x, e.coord.y, e.coord.z) * l.spacingMm;

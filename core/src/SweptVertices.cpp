@@ -37,11 +37,10 @@ std::vector<SweptVertex> sweptVertices(double spacing, const Vec3& a, const Vec3
     }
     std::sort(out.begin(), out.end(),
               [](const SweptVertex& l, const SweptVertex& r) { return l.coord < r.coord; });
-    out.erase(std::unique(out.begin(), out.end(),
-                          [](const SweptVertex& l, const SweptVertex& r) {
-                              return l.coord == r.coord;
-                          }),
-              out.end());
+    out.erase(
+        std::unique(out.begin(), out.end(),
+                    [](const SweptVertex& l, const SweptVertex& r) { return l.coord == r.coord; }),
+        out.end());
     return out;
 }
 

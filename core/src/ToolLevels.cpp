@@ -12,7 +12,8 @@ ToolLevels::ToolLevels(const SculptConfig& cfg)
     : mFalloff(cfg.falloff), mIso(cfg.iso), mMode(cfg.placement) {
     double ratio = 0;  // R_k / D_k when calibrated
     if (!cfg.manualSupport) {
-        const CalibrationResult cal = calibrateSupport(mMode, mFalloff, cfg.spacingOverDiameter, cfg.iso);
+        const CalibrationResult cal =
+            calibrateSupport(mMode, mFalloff, cfg.spacingOverDiameter, cfg.iso);
         mReport = cal.report;
         ratio = cal.report.supportOverDiameter;
         mCalibrated = true;
@@ -28,7 +29,8 @@ ToolLevels::ToolLevels(const SculptConfig& cfg)
             l.supportMm = ratio * l.diameterMm;
         }
     }
-    for (ToolLevel& l : mLevels) l.scale = l.supportMm / mLevels[kReferenceLevel - 1].supportMm;
+    for (ToolLevel& l : mLevels)
+        l.scale = l.supportMm / mLevels[kReferenceLevel - 1].supportMm;
 
     // With manual support radii R/D differs per level, and so does the coverage table; the
     // free placement mode uses the reference level's table for all levels in that case.

@@ -27,7 +27,8 @@ TEST(Cli, DefaultRunPrintsTheInitialSculpture) {
     EXPECT_NE(r.out.find("support calibrated"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("initial sphere: radius 40.000 mm"), std::string::npos) << r.out;
     // One row per tool level.
-    for (const char* row : {"    1 ", "    7 "}) EXPECT_NE(r.out.find(row), std::string::npos);
+    for (const char* row : {"    1 ", "    7 "})
+        EXPECT_NE(r.out.find(row), std::string::npos);
 }
 
 TEST(Cli, HelpTellsTheOptions) {
@@ -43,8 +44,7 @@ TEST(Cli, BadArgumentsAndConfigsExitWithTwo) {
     EXPECT_FALSE(r.err.empty());
     r = run({"--config", "/nonexistent.json"});
     EXPECT_EQ(r.code, 2);
-    EXPECT_NE(r.err.find("/nonexistent.json: cannot open config file"), std::string::npos)
-        << r.err;
+    EXPECT_NE(r.err.find("/nonexistent.json: cannot open config file"), std::string::npos) << r.err;
 }
 
 }  // namespace

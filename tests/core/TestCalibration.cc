@@ -45,13 +45,13 @@ TEST_P(CalibrationPerMode, EveryLevelGivesTubesOfTheToolRadius) {
             const Vec3 dir = glm::normalize(Vec3(N(rng), N(rng), N(rng)));
             const Vec3 origin = Vec3(U(rng), U(rng), U(rng)) * l.spacingMm + Vec3(3, -7, 11);
             const double half = 2 * l.diameterMm + 2 * l.supportMm;
-            applyStroke(s, ToolOp::Add, k, linePath(origin - dir * half, origin + dir * half,
-                                                     0.3 * l.diameterMm));
+            applyStroke(s, ToolOp::Add, k,
+                        linePath(origin - dir * half, origin + dir * half, 0.3 * l.diameterMm));
             const auto r = tubeRadius(s, origin, dir, l.spacingMm, 2 * l.diameterMm);
             const double rel = (r.mean - 0.5 * l.diameterMm) / (0.5 * l.diameterMm);
             EXPECT_LT(std::abs(rel), tol.perDirection)
-                << "level " << k << " direction " << i << ": mean radius " << r.mean
-                << " mm vs " << 0.5 * l.diameterMm;
+                << "level " << k << " direction " << i << ": mean radius " << r.mean << " mm vs "
+                << 0.5 * l.diameterMm;
             sumRel += rel;
         }
         EXPECT_LT(std::abs(sumRel / kDirections), tol.averaged) << "level " << k;
@@ -68,8 +68,7 @@ TEST_P(CalibrationPerMode, ReportMatchesTheLevelsAndScalesWithTheDiameter) {
     EXPECT_LT(la->calibration().meanRadiusError, 1e-6);
     EXPECT_LT(la->calibration().worstDirectionError, statedTolerance(mode).perDirection);
     // Everything in a level scales with D, so R/D does not depend on D_4 or the growth.
-    EXPECT_NEAR(la->calibration().supportOverDiameter, lb->calibration().supportOverDiameter,
-                1e-9);
+    EXPECT_NEAR(la->calibration().supportOverDiameter, lb->calibration().supportOverDiameter, 1e-9);
     for (int k = 1; k <= kLevelCount; ++k) {
         const ToolLevel& l = la->level(k);
         EXPECT_NEAR(l.diameterMm, a.d4Mm * std::pow(a.growth, k - 4), 1e-12);

@@ -100,7 +100,8 @@ TEST(Config, BadValuesNameTheKeyAndReason) {
          "field.support.scale[3]: L_4 must be exactly 1"},
         {R"({"placement": {"mode": "sculpt"}})", "placement.mode: expected \"thesis\" or \"free\""},
         {R"({"initial_sphere": {"radius_mm": -4}})", "initial_sphere.radius_mm: must be >= 0"},
-        {R"({"initial_sphere": {"center_mm": [0, 0]}})", "initial_sphere.center_mm: expected [x, y, z]"},
+        {R"({"initial_sphere": {"center_mm": [0, 0]}})",
+         "initial_sphere.center_mm: expected [x, y, z]"},
         {R"([1, 2])", "top level: expected an object"},
     };
     for (const Bad& b : cases) {

@@ -37,7 +37,8 @@ std::vector<Vec3> randomPoints(size_t n, unsigned seed) {
     std::mt19937 rng(seed);
     std::normal_distribution<double> pos(0, 35);
     std::vector<Vec3> p(n);
-    for (auto& v : p) v = Vec3(pos(rng), pos(rng), pos(rng));
+    for (auto& v : p)
+        v = Vec3(pos(rng), pos(rng), pos(rng));
     p.push_back(Vec3(1e4, 0, 0));  // far from everything
     p.push_back(Vec3(0));
     return p;
@@ -51,7 +52,8 @@ TEST(FieldEval, AcceleratedEqualsBruteForce) {
             const FieldSample fast = probe.sample(p), ref = evalFieldBruteForce(s, p);
             ASSERT_NEAR(fast.value, ref.value, 1e-9) << n << " skeletons at " << p.x;
             ASSERT_NEAR(probe.value(p), ref.value, 1e-9);
-            for (int a = 0; a < 3; ++a) ASSERT_NEAR(fast.gradient[a], ref.gradient[a], 1e-9);
+            for (int a = 0; a < 3; ++a)
+                ASSERT_NEAR(fast.gradient[a], ref.gradient[a], 1e-9);
         }
     }
 }
@@ -77,7 +79,8 @@ TEST(FieldEval, BatchFromManyThreadsEqualsSinglePoint) {
     std::vector<double> single(pts.size());
     {
         FieldProbe probe(s);
-        for (size_t i = 0; i < pts.size(); ++i) single[i] = probe.value(pts[i]);
+        for (size_t i = 0; i < pts.size(); ++i)
+            single[i] = probe.value(pts[i]);
     }
     std::vector<double> values(pts.size());
     std::vector<Vec3> grads(pts.size());
@@ -86,11 +89,12 @@ TEST(FieldEval, BatchFromManyThreadsEqualsSinglePoint) {
     for (size_t t = 0; t < kThreads; ++t) {
         threads.emplace_back([&, t] {
             const size_t b = t * chunk, e = std::min(pts.size(), b + chunk);
-            evalFieldBatch(s, std::span(pts).subspan(b, e - b),
-                           std::span(values).subspan(b, e - b), std::span(grads).subspan(b, e - b));
+            evalFieldBatch(s, std::span(pts).subspan(b, e - b), std::span(values).subspan(b, e - b),
+                           std::span(grads).subspan(b, e - b));
         });
     }
-    for (auto& th : threads) th.join();
+    for (auto& th : threads)
+        th.join();
     EXPECT_EQ(values, single);
     std::vector<double> small(3);
     EXPECT_THROW(evalFieldBatch(s, pts, small), std::invalid_argument);

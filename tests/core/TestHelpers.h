@@ -28,7 +28,8 @@ inline core::SculptConfig emptyConfig(core::PlacementMode mode) {
 inline std::vector<Vec3> linePath(const Vec3& a, const Vec3& b, double step) {
     const int n = std::max(1, int(std::ceil(glm::length(b - a) / step)));
     std::vector<Vec3> path;
-    for (int i = 0; i <= n; ++i) path.push_back(a + (b - a) * (double(i) / n));
+    for (int i = 0; i <= n; ++i)
+        path.push_back(a + (b - a) * (double(i) / n));
     return path;
 }
 

@@ -23,10 +23,14 @@ enum class State { Empty, Add, Sub, AddSub };
 
 std::optional<float> stateWeight(State s) {
     switch (s) {
-        case State::Add: return kAdd;
-        case State::Sub: return kSub;
-        case State::AddSub: return kAddSub;
-        default: return std::nullopt;
+        case State::Add:
+            return kAdd;
+        case State::Sub:
+            return kSub;
+        case State::AddSub:
+            return kAddSub;
+        default:
+            return std::nullopt;
     }
 }
 
@@ -154,7 +158,8 @@ TEST_P(PlacementBothModes, SmallToolsAddDataOnlyAlongThemselves) {
     // between them.
     const size_t one = s.store().memoryBytes();
     std::vector<Vec3> far;
-    for (const Vec3& p : path) far.push_back(p + Vec3(270, -200, 170) * l.spacingMm);
+    for (const Vec3& p : path)
+        far.push_back(p + Vec3(270, -200, 170) * l.spacingMm);
     applyStroke(s, ToolOp::Add, 1, far);
     // (A vertex exactly on the tool's rim may fall either way at the other position.)
     EXPECT_NEAR(double(s.store().vertexCount()), 2.0 * n, 0.02 * n);
@@ -169,12 +174,14 @@ TEST_P(PlacementBothModes, WorldSpaceEditsLandInObjectSpace) {
     worldFromObject.translation = Vec3(100, -20, 5);
     const auto objectPath = linePath(Vec3(-10, 3, 2), Vec3(25, 8, -4), 1.5);
     std::vector<Vec3> worldPath;
-    for (const Vec3& p : objectPath) worldPath.push_back(worldFromObject.apply(p));
+    for (const Vec3& p : objectPath)
+        worldPath.push_back(worldFromObject.apply(p));
 
     Sculpture direct(emptyConfig(GetParam())), viaWorld(emptyConfig(GetParam()));
     applyStroke(direct, ToolOp::Add, 3, objectPath);
     StrokeBuilder stroke(viaWorld, ToolOp::Add, 3);
-    for (const Vec3& w : worldPath) stroke.addSampleWorld(w, worldFromObject);
+    for (const Vec3& w : worldPath)
+        stroke.addSampleWorld(w, worldFromObject);
     ASSERT_EQ(direct.store().vertexCount(), viaWorld.store().vertexCount());
     direct.store().forEach([&](const SkeletonEntry& e) {
         const auto w = viaWorld.store().get(e.level, e.coord);
@@ -190,7 +197,8 @@ TEST_P(PlacementBothModes, UndoRestoresTheStartAndRedoTheEnd) {
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> U(-45, 45);
     std::vector<Vec3> probes;
-    for (int i = 0; i < 300; ++i) probes.push_back(Vec3(U(rng), U(rng), U(rng)));
+    for (int i = 0; i < 300; ++i)
+        probes.push_back(Vec3(U(rng), U(rng), U(rng)));
     auto fieldAt = [&] {
         std::vector<double> v(probes.size());
         evalFieldBatch(s, probes, v);
@@ -201,16 +209,19 @@ TEST_P(PlacementBothModes, UndoRestoresTheStartAndRedoTheEnd) {
     for (int i = 0; i < 12; ++i) {
         history.emplace_back();
         const ToolOp op = i % 3 == 2 ? ToolOp::Carve : ToolOp::Add;
-        applyStroke(s, op, 2 + i % 5, linePath(Vec3(U(rng), U(rng), U(rng)) * 0.8,
-                                                Vec3(U(rng), U(rng), U(rng)) * 0.8, 2.0),
-                    &history.back());
+        applyStroke(
+            s, op, 2 + i % 5,
+            linePath(Vec3(U(rng), U(rng), U(rng)) * 0.8, Vec3(U(rng), U(rng), U(rng)) * 0.8, 2.0),
+            &history.back());
     }
     const auto end = fieldAt();
     const size_t endCount = s.store().vertexCount();
-    for (auto it = history.rbegin(); it != history.rend(); ++it) revertChanges(s, *it);
+    for (auto it = history.rbegin(); it != history.rend(); ++it)
+        revertChanges(s, *it);
     EXPECT_EQ(s.store().vertexCount(), 0u);
     EXPECT_EQ(fieldAt(), start);  // bit-identical
-    for (const auto& h : history) reapplyChanges(s, h);
+    for (const auto& h : history)
+        reapplyChanges(s, h);
     EXPECT_EQ(s.store().vertexCount(), endCount);
     EXPECT_EQ(fieldAt(), end);
 }
@@ -283,8 +294,7 @@ TEST(PlacementFree, CarveThenAddRecoversFreshSize) {
         const auto want = tubeRadius(fresh, Vec3(0), dir, l.spacingMm, maxR);
         const auto got = tubeRadius(s, Vec3(0), dir, l.spacingMm, maxR);
         EXPECT_NEAR(got.mean, want.mean, l.spacingMm)
-            << "add " << c.addLevel << ", carve " << c.carveLevel << ", re-add "
-            << c.reAddLevel;
+            << "add " << c.addLevel << ", carve " << c.carveLevel << ", re-add " << c.reAddLevel;
     }
 }
 

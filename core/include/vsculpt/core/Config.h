@@ -31,7 +31,7 @@ const char* toString(PlacementMode m);
 
 /// Support radii given by hand instead of calibrated (the thesis's way).
 struct ManualSupport {
-    double r4Mm = 0.0;                     ///< support radius of level 4, mm
+    double r4Mm = 0.0;                        ///< support radius of level 4, mm
     std::array<double, kLevelCount> scale{};  ///< L_k, multiplies r4Mm; L_4 must be 1
 };
 
@@ -59,7 +59,7 @@ struct SculptConfig {
 
 /// A user error in a config: message names the file, the line or key, and the reason.
 class ConfigError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 

@@ -5,8 +5,8 @@
 /// and its gradient. Inside the material f > 0; the surface is f = 0.
 ///
 /// Only skeletons whose support reaches P are visited: per level, the few 4^3 lattice blocks
-/// overlapping the ball of radius R_k around P. Cost per evaluation therefore depends on the
-/// local skeleton density, not on the size of the sculpture.
+/// overlapping the ball of radius R_k around P (see SkeletonStore.h). Cost per evaluation therefore
+/// depends on the local skeleton density, not on the size of the sculpture.
 #pragma once
 
 #include "vsculpt/core/Geometry.h"
@@ -19,15 +19,16 @@ namespace vsculpt::core {
 class Sculpture;
 
 struct FieldSample {
-    double value = 0;     ///< f(P)
-    Vec3 gradient{0.0};   ///< grad f(P), per mm
+    double value = 0;    ///< f(P)
+    Vec3 gradient{0.0};  ///< grad f(P), per mm
 };
 
 /// A reader of one sculpture's field with cached tree accessors. Not thread-safe: give each
 /// thread its own probe. Any number of probes may read concurrently while nobody edits.
-/// The sculpture must outlive the probe; an edit between calls is fine on the edit's thread.
+/// The sculpture must outlive the probe; an edit between calls is fine on the edit's thread
+/// (the probe caches where blocks of skeletons live, and notices new ones).
 class FieldProbe {
-public:
+  public:
     explicit FieldProbe(const Sculpture& sculpture);
     ~FieldProbe();
     FieldProbe(FieldProbe&&) noexcept;
@@ -40,7 +41,7 @@ public:
     /// sum_s w_s F(|P - s|) without the iso offset c: 0 in untouched space.
     double rawSum(const Vec3& objectPos) { return value(objectPos) + mIso; }
 
-private:
+  private:
     struct Impl;
     std::unique_ptr<Impl> mImpl;
     double mIso;

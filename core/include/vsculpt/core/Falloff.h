@@ -14,10 +14,10 @@
 namespace vsculpt::core {
 
 struct FalloffParams {
-    double f0 = 1.0;            ///< F(0), dimensionless field value at the skeleton
-    double controlU = 0.5;      ///< a: control point position as a fraction of the support radius
-    double controlValue = 0.5;  ///< Fa: field value at the control point
-    double controlSlope = -1.5; ///< s = dF/du at the control point (u = d/R), <= 0
+    double f0 = 1.0;             ///< F(0), dimensionless field value at the skeleton
+    double controlU = 0.5;       ///< a: control point position as a fraction of the support radius
+    double controlValue = 0.5;   ///< Fa: field value at the control point
+    double controlSlope = -1.5;  ///< s = dF/du at the control point (u = d/R), <= 0
 };
 
 /// Why a parameter set is rejected, or an empty string when it is valid. Valid means:
@@ -26,7 +26,7 @@ struct FalloffParams {
 std::string validateFalloff(const FalloffParams& p);
 
 class HermiteFalloff {
-public:
+  public:
     /// @pre validateFalloff(p).empty(); checked, throws std::invalid_argument otherwise.
     explicit HermiteFalloff(const FalloffParams& p);
 
@@ -62,7 +62,7 @@ public:
 
     const FalloffParams& params() const { return mParams; }
 
-private:
+  private:
     FalloffParams mParams;
     double mF0, mA, mFa, mS, mW, mInvA, mInvW;
 };

@@ -40,8 +40,8 @@ struct Aabb {
         return Aabb{min - Vec3(r), max + Vec3(r)};
     }
     bool intersects(const Aabb& b) const {
-        return !empty() && !b.empty() && min.x <= b.max.x && b.min.x <= max.x &&
-               min.y <= b.max.y && b.min.y <= max.y && min.z <= b.max.z && b.min.z <= max.z;
+        return !empty() && !b.empty() && min.x <= b.max.x && b.min.x <= max.x && min.y <= b.max.y &&
+               b.min.y <= max.y && min.z <= b.max.z && b.min.z <= max.z;
     }
     bool contains(const Vec3& p) const {
         return p.x >= min.x && p.x <= max.x && p.y >= min.y && p.y <= max.y && p.z >= min.z &&

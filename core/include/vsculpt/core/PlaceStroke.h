@@ -40,7 +40,7 @@ struct EditResult {
 
 /// An in-progress stroke on one sculpture. Edits the sculpture as samples arrive.
 class StrokeBuilder {
-public:
+  public:
     /// @param level tool level 1..7 (checked: std::invalid_argument)
     StrokeBuilder(Sculpture& sculpture, ToolOp op, int level);
     ~StrokeBuilder();
@@ -55,7 +55,7 @@ public:
     const std::vector<SkeletonChange>& changes() const { return mChanges; }
     std::vector<SkeletonChange> takeChanges() { return std::move(mChanges); }
 
-private:
+  private:
     double preStrokeRawSum(const LatticeCoord& v, const Vec3& pos);
 
     Sculpture& mSculpture;

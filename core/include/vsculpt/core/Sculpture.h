@@ -35,7 +35,7 @@ struct SkeletonCounts {
 };
 
 class Sculpture {
-public:
+  public:
     /// Builds tool levels (calibrating once per distinct parameter set in this process) and the
     /// initial sphere. @pre validateConfig(cfg) passed (throws ConfigError otherwise).
     explicit Sculpture(const SculptConfig& cfg);
@@ -57,7 +57,7 @@ public:
     /// Bounds of every skeleton's support (where f can exceed -c); empty when nothing exists.
     Aabb supportBounds() const;
 
-private:
+  private:
     SculptConfig mConfig;
     std::shared_ptr<const ToolLevels> mLevels;
     SkeletonStore mStore;

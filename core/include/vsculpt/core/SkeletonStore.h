@@ -6,7 +6,9 @@
 /// A vertex is either empty (inactive) or holds a skeleton with a signed weight w: its field
 /// contribution is w * F_k(|P - v|). Thesis mode uses w = +1 (additive), -1 (subtractive) and
 /// 0 (an additive and a subtractive skeleton stacked, which cancel); free mode uses any w.
-/// Storage is sparse: only 4^3 blocks a tool touched exist (docs/benchmarks.md: bytes/skeleton).
+/// Storage is sparse: per level, a hash of the 4^3 vertex blocks a tool touched, each holding
+/// only its occupied vertices' weights (docs/benchmarks.md: bytes per skeleton, and why this
+/// is not an OpenVDB tree). Lattice coordinates must stay within +-2^22 (checked).
 #pragma once
 
 #include "vsculpt/core/Config.h"
@@ -25,7 +27,7 @@ struct SkeletonEntry {
 };
 
 class SkeletonStore {
-public:
+  public:
     SkeletonStore();
     ~SkeletonStore();
     SkeletonStore(SkeletonStore&&) noexcept;
@@ -49,13 +51,18 @@ public:
     /// Heap bytes used by the trees (OpenVDB's own accounting).
     size_t memoryBytes() const;
 
+    struct LevelStats {
+        size_t vertices = 0, blocks = 0, bytes = 0;  ///< blocks: allocated 4^3 leaves
+    };
+    LevelStats stats(int level) const;
+
     /// Visits every occupied vertex, level by level, in the trees' order.
     void forEach(const std::function<void(const SkeletonEntry&)>& fn) const;
 
     struct Impl;  ///< defined in src/SkeletonStoreImpl.h; field evaluation reads it directly
     const Impl& impl() const { return *mImpl; }
 
-private:
+  private:
     std::unique_ptr<Impl> mImpl;
 };
 

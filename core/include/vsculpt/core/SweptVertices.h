@@ -20,8 +20,7 @@ struct SweptVertex {
 /// not depend on rounding for the lattice-aligned strokes calibration uses. Long segments
 /// are split so the work follows the capsule's volume, not its bounding box.
 /// Units: mm. @pre spacing > 0, radius >= 0, a and b pass isUsablePoint().
-std::vector<SweptVertex> sweptVertices(double spacing, const Vec3& a, const Vec3& b,
-                                       double radius);
+std::vector<SweptVertex> sweptVertices(double spacing, const Vec3& a, const Vec3& b, double radius);
 
 /// Distance from p to the segment a-b.
 double distanceToSegment(const Vec3& p, const Vec3& a, const Vec3& b);

@@ -42,7 +42,7 @@ inline double strokeProfile(PlacementMode mode, double s) {
 }
 
 class ToolLevels {
-public:
+  public:
     /// Builds the table; calibrates support radii unless cfg.manualSupport is set.
     /// @pre validateConfig(cfg) passed.
     explicit ToolLevels(const SculptConfig& cfg);
@@ -66,7 +66,7 @@ public:
         return strokeProfile(mMode, lateralOverRadius) / strokeCoverage(lateralOverRadius);
     }
 
-private:
+  private:
     std::array<ToolLevel, kLevelCount> mLevels{};
     HermiteFalloff mFalloff;
     double mIso;

@@ -31,7 +31,7 @@ uint32_t roundCapacity(uint32_t n) {
 }
 
 /// Rewrites the pool with every brick's weights packed, dropping the holes growth left.
-void compact(LevelBricks& L) {
+void compactLevel(LevelBricks& L) {
     std::vector<float> pool;
     pool.reserve(L.pool.size() - L.wasted);
     for (Brick& b : L.bricks) {
@@ -75,12 +75,12 @@ void SkeletonStore::set(int level, const LatticeCoord& c, float weight) {
     checkRange(c);
     LevelBricks& L = mImpl->levels[checkedIndex(level)];
     const int32_t bx = brickOf(c.x), by = brickOf(c.y), bz = brickOf(c.z);
-    auto [it, created] = L.index.try_emplace(brickKey(bx, by, bz), uint32_t(L.bricks.size()));
+    const auto [slot, created] = L.index.tryEmplace(brickKey(bx, by, bz), uint32_t(L.bricks.size()));
     if (created) {
         L.bricks.push_back(Brick{bx * kBrickDim, by * kBrickDim, bz * kBrickDim, 0, 0, 0});
         ++mImpl->generation;
     }
-    Brick& b = L.bricks[it->second];
+    Brick& b = L.bricks[slot];
     const int bit = brickBit(c.x, c.y, c.z);
     const int rank = std::popcount(b.mask & ((uint64_t(1) << bit) - 1));
     if (b.mask >> bit & 1) {
@@ -104,7 +104,7 @@ void SkeletonStore::set(int level, const LatticeCoord& c, float weight) {
     ++L.count;
     L.min = {std::min(L.min[0], c.x), std::min(L.min[1], c.y), std::min(L.min[2], c.z)};
     L.max = {std::max(L.max[0], c.x), std::max(L.max[1], c.y), std::max(L.max[2], c.z)};
-    if (L.wasted > 4096 && L.wasted * 2 > L.pool.size()) compact(L);
+    if (L.wasted > 4096 && L.wasted * 3 > L.pool.size()) compactLevel(L);
 }
 
 void SkeletonStore::erase(int level, const LatticeCoord& c) {
@@ -122,6 +122,10 @@ void SkeletonStore::erase(int level, const LatticeCoord& c) {
     --L.count;
 }
 
+void SkeletonStore::compact() {
+    for (LevelBricks& L : mImpl->levels) compactLevel(L);
+}
+
 size_t SkeletonStore::vertexCount(int level) const {
     return mImpl->levels[checkedIndex(level)].count;
 }
@@ -135,11 +139,8 @@ size_t SkeletonStore::vertexCount() const {
 
 namespace {
 size_t levelBytes(const LevelBricks& L) {
-    // unordered_map: a bucket pointer each, and a node (key, value, next, cached hash) plus
-    // the allocator's header per entry.
-    constexpr size_t kNode = sizeof(uint64_t) + sizeof(uint32_t) + 2 * sizeof(void*) + 16;
     return L.bricks.capacity() * sizeof(Brick) + L.pool.capacity() * sizeof(float) +
-           L.index.bucket_count() * sizeof(void*) + L.index.size() * kNode;
+           L.index.bytes();
 }
 }  // namespace
 

@@ -14,7 +14,7 @@
 #include <bit>
 #include <climits>
 #include <cstdint>
-#include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace vsculpt::core {
@@ -41,8 +41,59 @@ inline uint64_t brickKey(int32_t bx, int32_t by, int32_t bz) {
     return (uint64_t(bx) & m) | ((uint64_t(by) & m) << 21) | ((uint64_t(bz) & m) << 42);
 }
 
+/// Open-addressing hash from brick key to brick position: one cache line per lookup, which
+/// matters because field evaluation looks bricks up for every query point.
+class BrickIndex {
+public:
+    static constexpr uint64_t kEmpty = ~uint64_t(0);  // brick keys use 63 bits: never this
+
+    int64_t find(uint64_t key) const {
+        if (mSlots.empty()) return -1;
+        for (size_t i = home(key);; i = (i + 1) & mMask) {
+            const Slot& s = mSlots[i];
+            if (s.key == key) return s.value;
+            if (s.key == kEmpty) return -1;
+        }
+    }
+    /// Inserts key -> value unless present; returns the stored value and whether it inserted.
+    std::pair<uint32_t, bool> tryEmplace(uint64_t key, uint32_t value) {
+        if ((mSize + 1) * 2 > mSlots.size()) grow();
+        for (size_t i = home(key);; i = (i + 1) & mMask) {
+            Slot& s = mSlots[i];
+            if (s.key == key) return {s.value, false};
+            if (s.key == kEmpty) {
+                s = Slot{key, value};
+                ++mSize;
+                return {value, true};
+            }
+        }
+    }
+    size_t size() const { return mSize; }
+    size_t bytes() const { return mSlots.capacity() * sizeof(Slot); }
+
+private:
+    struct Slot {
+        uint64_t key = kEmpty;
+        uint32_t value = 0;
+    };
+    size_t home(uint64_t key) const { return size_t((key * 0x9E3779B97F4A7C15ull) >> mShift); }
+    void grow() {
+        std::vector<Slot> old = std::move(mSlots);
+        const size_t cap = old.empty() ? 64 : old.size() * 2;
+        mSlots.assign(cap, Slot{});
+        mMask = cap - 1;
+        mShift = 64 - std::countr_zero(cap);
+        mSize = 0;
+        for (const Slot& s : old)
+            if (s.key != kEmpty) tryEmplace(s.key, s.value);
+    }
+    std::vector<Slot> mSlots;
+    size_t mMask = 0, mSize = 0;
+    int mShift = 64;
+};
+
 struct LevelBricks {
-    std::unordered_map<uint64_t, uint32_t> index;  ///< brick key -> position in `bricks`
+    BrickIndex index;  ///< brick key -> position in `bricks`
     std::vector<Brick> bricks;                     ///< never reordered: positions are stable
     std::vector<float> pool;
     size_t wasted = 0;  ///< pool entries no brick owns any more (reclaimed by compaction)
@@ -53,8 +104,7 @@ struct LevelBricks {
 
     /// Position of the brick holding lattice brick (bx, by, bz), or -1.
     int64_t find(int32_t bx, int32_t by, int32_t bz) const {
-        auto it = index.find(brickKey(bx, by, bz));
-        return it == index.end() ? -1 : int64_t(it->second);
+        return index.find(brickKey(bx, by, bz));
     }
 };
 

@@ -45,6 +45,9 @@ class SkeletonStore {
     /// Empties a vertex (no-op when already empty).
     void erase(int level, const LatticeCoord& c);
 
+    /// Packs storage, returning the space growth left behind (also done automatically).
+    void compact();
+
     /// Number of occupied vertices on one level / on all levels.
     size_t vertexCount(int level) const;
     size_t vertexCount() const;

@@ -3,6 +3,7 @@
 
 #include "vsculpt/core/SweptVertices.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -235,6 +236,46 @@ std::vector<double> strokeCoverageTable(PlacementMode mode, const HermiteFalloff
             table[i] = table[l] + (table[r] - table[l]) * (i - l) / (r - l);
     }
     return table;
+}
+
+double strokeWallValue(PlacementMode mode, const HermiteFalloff& F, double sigma,
+                       double supportOverDiameter, const std::vector<double>& coverage) {
+    const double D = 1.0, h = sigma * D, rho = 0.5 * D, R = supportOverDiameter * D;
+    auto cov = [&](double s) {
+        const double x = std::clamp(s, 0.0, 1.0) * double(coverage.size() - 1);
+        const size_t i0 = std::min(size_t(x), coverage.size() - 2);
+        const double f = x - double(i0);
+        return coverage[i0] * (1 - f) + coverage[i0 + 1] * f;
+    };
+    std::vector<Stroke> strokes;
+    for (const StrokeLine& l : calibrationLines()) {
+        Stroke s = makeStroke(mode, D, h, R, l.originInSpacings * h, l.direction);
+        // Re-weight by the gain: weights that change the field by one unit along the path.
+        for (size_t i = 0; i < s.skeletons.size(); ++i) {
+            const double lateral =
+                distanceToSegment(s.skeletons[i], s.origin - s.dir * 1e3, s.origin + s.dir * 1e3) /
+                rho;
+            s.weights[i] = strokeProfile(mode, lateral) / cov(lateral);
+        }
+        strokes.push_back(std::move(s));
+    }
+    // The level L of that unit-change field whose iso-surface lies, on average, at the tool's
+    // surface: carving by (A - c) / L then puts the carved wall at D/2 in material of any
+    // field value A (the same measurement as the support calibration).
+    auto meanRadius = [&](double level) {
+        double sum = 0;
+        for (const Stroke& s : strokes)
+            sum += measure(F, level, s, D, h, R).mean;
+        return sum / double(strokes.size());
+    };
+    double lo = 1e-3, hi = 1.0;
+    while (meanRadius(hi) > rho && hi < 64)
+        hi *= 2;
+    for (int i = 0; i < 40; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (meanRadius(mid) > rho ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
 }
 
 }  // namespace vsculpt::core

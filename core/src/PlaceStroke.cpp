@@ -93,7 +93,8 @@ EditResult StrokeBuilder::addSample(const Vec3& p) {
             }
         } else {
             // Free mode (docs/placement.md): add raises the field at the vertex to at least
-            // what a fresh stroke gives there, carve lowers it to at most empty space's (0).
+            // what a fresh stroke gives there; carve lowers it so the carved wall is at the
+            // tool's surface.
             // The change is spread as weights scaled by the stroke's gain at this lateral
             // distance, so a uniform change over the swept tube comes out uniform. The field
             // is the one before the stroke, so sample spacing does not matter.
@@ -101,9 +102,12 @@ EditResult StrokeBuilder::addSample(const Vec3& p) {
             const double lateral = sv.lateralMm / radius;
             const double gain = levels.strokeGain(lateral);
             const double w0 = before.value_or(0.0f);
+            // Carving: the wall of the carved tube should be at the tool's surface, where a
+            // uniform change reaches only strokeWallValue() of its size, so the change is
+            // what brings material there down to the iso level, scaled up by that share.
             const double change = mOp == ToolOp::Add
                                       ? std::max(0.0, levels.strokeCoverage(lateral) - raw)
-                                      : -std::max(0.0, raw);
+                                      : -std::max(0.0, raw - iso) / levels.strokeWallValue();
             if (change != 0.0 && gain > 0.0) after = float(w0 + change * gain);
         }
         if (after == current) continue;

@@ -75,7 +75,8 @@ void SkeletonStore::set(int level, const LatticeCoord& c, float weight) {
     checkRange(c);
     LevelBricks& L = mImpl->levels[checkedIndex(level)];
     const int32_t bx = brickOf(c.x), by = brickOf(c.y), bz = brickOf(c.z);
-    const auto [slot, created] = L.index.tryEmplace(brickKey(bx, by, bz), uint32_t(L.bricks.size()));
+    const auto [slot, created] =
+        L.index.tryEmplace(brickKey(bx, by, bz), uint32_t(L.bricks.size()));
     if (created) {
         L.bricks.push_back(Brick{bx * kBrickDim, by * kBrickDim, bz * kBrickDim, 0, 0, 0});
         ++mImpl->generation;
@@ -123,7 +124,8 @@ void SkeletonStore::erase(int level, const LatticeCoord& c) {
 }
 
 void SkeletonStore::compact() {
-    for (LevelBricks& L : mImpl->levels) compactLevel(L);
+    for (LevelBricks& L : mImpl->levels)
+        compactLevel(L);
 }
 
 size_t SkeletonStore::vertexCount(int level) const {

@@ -44,7 +44,7 @@ inline uint64_t brickKey(int32_t bx, int32_t by, int32_t bz) {
 /// Open-addressing hash from brick key to brick position: one cache line per lookup, which
 /// matters because field evaluation looks bricks up for every query point.
 class BrickIndex {
-public:
+  public:
     static constexpr uint64_t kEmpty = ~uint64_t(0);  // brick keys use 63 bits: never this
 
     int64_t find(uint64_t key) const {
@@ -71,7 +71,7 @@ public:
     size_t size() const { return mSize; }
     size_t bytes() const { return mSlots.capacity() * sizeof(Slot); }
 
-private:
+  private:
     struct Slot {
         uint64_t key = kEmpty;
         uint32_t value = 0;
@@ -93,8 +93,8 @@ private:
 };
 
 struct LevelBricks {
-    BrickIndex index;  ///< brick key -> position in `bricks`
-    std::vector<Brick> bricks;                     ///< never reordered: positions are stable
+    BrickIndex index;           ///< brick key -> position in `bricks`
+    std::vector<Brick> bricks;  ///< never reordered: positions are stable
     std::vector<float> pool;
     size_t wasted = 0;  ///< pool entries no brick owns any more (reclaimed by compaction)
     size_t count = 0;   ///< occupied vertices

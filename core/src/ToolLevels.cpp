@@ -37,6 +37,8 @@ ToolLevels::ToolLevels(const SculptConfig& cfg)
     const ToolLevel& ref = mLevels[kReferenceLevel - 1];
     mCoverage = strokeCoverageTable(mMode, mFalloff, cfg.spacingOverDiameter,
                                     ref.supportMm / ref.diameterMm);
+    mWall = core::strokeWallValue(mMode, mFalloff, cfg.spacingOverDiameter,
+                                  ref.supportMm / ref.diameterMm, mCoverage);
 }
 
 const ToolLevel& ToolLevels::level(int k) const {

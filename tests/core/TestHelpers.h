@@ -40,8 +40,10 @@ struct Radius {
 /// Iso-surface radius around the axis through `center` along `dir`, from rays at `angles`
 /// angles and `offsets` axial offsets spread over +-axialSpan: the first crossing of f = 0
 /// going outward (0 if the axis point itself is outside).
+/// With `hole` set, measures an empty tunnel instead: the first crossing into material.
 inline Radius tubeRadius(const core::Sculpture& s, const Vec3& center, const Vec3& dir,
-                         double axialSpan, double maxRadius, int angles = 16, int offsets = 5) {
+                         double axialSpan, double maxRadius, int angles = 16, int offsets = 5,
+                         bool hole = false) {
     core::FieldProbe probe(s);
     const Vec3 d = glm::normalize(dir);
     const Vec3 helper = std::abs(d.x) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
@@ -58,16 +60,17 @@ inline Radius tubeRadius(const core::Sculpture& s, const Vec3& center, const Vec
             const double th = 2 * std::numbers::pi * (i + 0.37) / angles;
             const Vec3 e = std::cos(th) * e1 + std::sin(th) * e2;
             double r = 0;
-            if (probe.value(q) > 0) {
+            auto same = [&](double t) { return (probe.value(q + t * e) > 0) != hole; };
+            if (same(0)) {
                 const double step = maxRadius / 200;
                 double lo = 0, hi = step;
-                while (hi < maxRadius && probe.value(q + hi * e) > 0) {
+                while (hi < maxRadius && same(hi)) {
                     lo = hi;
                     hi += step;
                 }
                 for (int it = 0; it < 50; ++it) {
                     const double mid = 0.5 * (lo + hi);
-                    (probe.value(q + mid * e) > 0 ? lo : hi) = mid;
+                    (same(mid) ? lo : hi) = mid;
                 }
                 r = 0.5 * (lo + hi);
             }

@@ -58,7 +58,8 @@ TEST(SkeletonStore, MatchesAReferenceMapUnderRandomEdits) {
     expectEqual(s, ref);
     for (int k = 1; k <= kLevelCount; ++k) {
         size_t n = 0;
-        for (const auto& [key, v] : ref) n += std::get<0>(key) == k;
+        for (const auto& [key, v] : ref)
+            n += std::get<0>(key) == k;
         EXPECT_EQ(s.vertexCount(k), n);
     }
     const SkeletonStore copy = s.clone();
@@ -70,9 +71,11 @@ TEST(SkeletonStore, NegativeCoordinatesAndBlockEdges) {
     SkeletonStore s;
     const LatticeCoord cs[] = {{-1, -1, -1}, {-4, 0, 3}, {-5, -8, 4}, {3, 3, 3}, {0, 0, 0}};
     float v = 1;
-    for (const auto& c : cs) s.set(2, c, v++);
+    for (const auto& c : cs)
+        s.set(2, c, v++);
     v = 1;
-    for (const auto& c : cs) EXPECT_EQ(s.get(2, c), v++);
+    for (const auto& c : cs)
+        EXPECT_EQ(s.get(2, c), v++);
     EXPECT_FALSE(s.get(2, LatticeCoord{-2, -1, -1}).has_value());
     EXPECT_FALSE(s.get(3, LatticeCoord{0, 0, 0}).has_value());
 }

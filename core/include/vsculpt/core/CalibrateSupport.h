@@ -25,6 +25,14 @@ struct CalibrationResult {
 std::vector<double> strokeCoverageTable(PlacementMode mode, const HermiteFalloff& falloff,
                                         double spacingOverDiameter, double supportOverDiameter);
 
+/// Field at the tool's surface (lateral distance D/2) of a straight stroke whose vertices carry
+/// the unit-change weights strokeProfile/coverage: the fraction of a uniform change that
+/// reaches the tool's surface. Free-mode carving divides by it so the carved wall lands on
+/// the tool's surface.
+double strokeWallValue(PlacementMode mode, const HermiteFalloff& falloff,
+                       double spacingOverDiameter, double supportOverDiameter,
+                       const std::vector<double>& coverage);
+
 /// @param mode placement mode: sets the weights a fresh stroke gives its vertices
 ///        (strokeProfile())
 /// @param falloff the F to calibrate

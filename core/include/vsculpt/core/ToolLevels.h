@@ -56,6 +56,9 @@ class ToolLevels {
 
     PlacementMode mode() const { return mMode; }
 
+    /// See strokeWallValue(): the share of a uniform carve that reaches the tool's surface.
+    double strokeWallValue() const { return mWall; }
+
     /// Field value of a fresh straight stroke at a lattice vertex at lateral distance `lateral`
     /// (as a fraction of the tool radius, 0..1) from the stroke axis, averaged over stroke
     /// directions (the T of docs/placement.md).
@@ -73,6 +76,7 @@ class ToolLevels {
     PlacementMode mMode;
     bool mCalibrated = false;
     CalibrationReport mReport;
+    double mWall = 1;
     std::vector<double> mCoverage;  // tabulated over lateral distance 0..1, linear in between
 };
 

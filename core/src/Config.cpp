@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -169,8 +170,44 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
     sphere.vec3("center_mm", cfg.sphereCenterMm);
     sphere.rejectUnknown();
 
+    Section zoom = top.sub("zoom");
+    if (const json* v = zoom.find("levels")) {
+        if (!v->is_number_integer() || v->get<int>() != kZoomLevels)
+            zoom.fail("zoom.levels", "vsculpt has exactly 5 zoom levels (got " + v->dump() + ")");
+    }
+    zoom.number("base_spacing_over_d6", cfg.zoom.baseSpacingOverD6);
+    if (const json* v = zoom.find("allowed_sizes")) {
+        if (!v->is_array() || v->size() != kZoomLevels)
+            zoom.fail("zoom.allowed_sizes", "expected 5 lists of tool levels, one per zoom level");
+        for (int z = 0; z < kZoomLevels; ++z) {
+            const json& row = (*v)[z];
+            const std::string key = "zoom.allowed_sizes[" + std::to_string(z) + "]";
+            if (!row.is_array() || row.empty())
+                zoom.fail(key, "expected a non-empty list of tool levels 1..7");
+            std::vector<int> sizes;
+            for (const json& k : row) {
+                if (!k.is_number_integer() || k.get<int>() < 1 || k.get<int>() > kLevelCount)
+                    zoom.fail(key, "tool levels are integers 1..7, got " + k.dump());
+                if (std::find(sizes.begin(), sizes.end(), k.get<int>()) != sizes.end())
+                    zoom.fail(key, "level " + k.dump() + " listed twice");
+                sizes.push_back(k.get<int>());
+            }
+            cfg.zoom.allowedSizes[z] = sizes;
+        }
+    }
+    zoom.rejectUnknown();
+
+    Section poly = top.sub("polygonizer");
+    if (const json* v = poly.find("grid_n")) {
+        if (!v->is_number_integer())
+            poly.fail("polygonizer.grid_n", "expected an integer, got " + v->dump());
+        cfg.polygonizer.gridN = v->get<int>();
+    }
+    poly.number("bisection_tolerance", cfg.polygonizer.bisectionTolerance);
+    poly.rejectUnknown();
+
     // Sections owned by later stages are accepted whole here; their own loaders check them.
-    for (const char* key : {"zoom", "polygonizer", "render", "devices", "interaction"})
+    for (const char* key : {"render", "devices", "interaction"})
         top.find(key);
     top.rejectUnknown();
 
@@ -232,6 +269,18 @@ void validateConfig(const SculptConfig& c) {
         fail("initial_sphere.radius_mm", "must be >= 0 mm (0: start empty) and <= 1e5");
     if (!isUsablePoint(c.sphereCenterMm))
         fail("initial_sphere.center_mm", "must be finite and within 1e6 mm of the origin");
+    if (!(std::isfinite(c.zoom.baseSpacingOverD6) && c.zoom.baseSpacingOverD6 > 0 &&
+          c.zoom.baseSpacingOverD6 <= 2))
+        fail("zoom.base_spacing_over_d6",
+             "must be in (0, 2] (got " + num(c.zoom.baseSpacingOverD6) + ")");
+    if (c.polygonizer.gridN < 16 || c.polygonizer.gridN > 1024 || c.polygonizer.gridN % 16 != 0)
+        fail("polygonizer.grid_n", "must be a multiple of 16 between 16 and 1024 (got " +
+                                       std::to_string(c.polygonizer.gridN) + ")");
+    if (!(std::isfinite(c.polygonizer.bisectionTolerance) &&
+          c.polygonizer.bisectionTolerance >= 1e-9 && c.polygonizer.bisectionTolerance <= 0.5))
+        fail("polygonizer.bisection_tolerance",
+             "must be in [1e-9, 0.5] (a fraction of the grid spacing; got " +
+                 num(c.polygonizer.bisectionTolerance) + ")");
 }
 
 }  // namespace vsculpt::core

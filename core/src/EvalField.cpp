@@ -73,11 +73,13 @@ struct FieldProbe::Impl {
             const Vec3 d = p - s.centerMm;
             const double r2 = glm::dot(d, d);
             if (r2 >= s.supportMm * s.supportMm) continue;
+            // Same operations, in the same order, as LocalField: results agree bit for bit.
+            const double inv = 1.0 / s.supportMm;
             const double r = std::sqrt(r2);
-            const double u = r / s.supportMm;
+            const double u = r * inv;
             sum += s.weight * falloff.value(u);
             if constexpr (WithGradient) {
-                if (r > 0) *grad += d * (s.weight * falloff.derivative(u) / (s.supportMm * r));
+                if (r > 0) *grad += d * (s.weight * falloff.derivative(u) * inv / r);
             }
         }
         const SkeletonStore::Impl& store = sculpture.store().impl();
@@ -176,6 +178,114 @@ FieldSample evalFieldBruteForce(const Sculpture& sculpture, const Vec3& p) {
     });
     out.value = sum - sculpture.levels().iso();
     return out;
+}
+
+}  // namespace vsculpt::core
+
+namespace vsculpt::core {
+
+LocalField::LocalField(const Sculpture& sculpture, const Aabb& box)
+    : mFalloff(&sculpture.levels().falloff()), mIso(sculpture.levels().iso()), mBox(box) {
+    auto push = [&](const Vec3& pos, double w, double support) {
+        mX.push_back(pos.x);
+        mY.push_back(pos.y);
+        mZ.push_back(pos.z);
+        mW.push_back(w);
+        mInvR.push_back(1.0 / support);
+        mR2.push_back(support * support);
+    };
+    auto reaches = [&](const Vec3& pos, double support) {
+        const Vec3 q = glm::clamp(pos, box.min, box.max);
+        const Vec3 d = pos - q;
+        return glm::dot(d, d) < support * support;
+    };
+    for (const PointSkeleton& s : sculpture.pointSkeletons())
+        if (reaches(s.centerMm, s.supportMm)) push(s.centerMm, s.weight, s.supportMm);
+    const SkeletonStore::Impl& store = sculpture.store().impl();
+    for (int i = 0; i < kLevelCount; ++i) {
+        const LevelBricks& L = store.levels[i];
+        if (L.count == 0) continue;
+        const ToolLevel& tl = sculpture.levels().level(i + 1);
+        const double h = tl.spacingMm, R = tl.supportMm;
+        // The same index range FieldProbe uses for any point of the box, so the same bricks
+        // are visited in the same (lexicographic) order.
+        const int x0 = std::max(int(std::floor((box.min.x - R) / h)), L.min[0]);
+        const int y0 = std::max(int(std::floor((box.min.y - R) / h)), L.min[1]);
+        const int z0 = std::max(int(std::floor((box.min.z - R) / h)), L.min[2]);
+        const int x1 = std::min(int(std::ceil((box.max.x + R) / h)), L.max[0]);
+        const int y1 = std::min(int(std::ceil((box.max.y + R) / h)), L.max[1]);
+        const int z1 = std::min(int(std::ceil((box.max.z + R) / h)), L.max[2]);
+        if (x0 > x1 || y0 > y1 || z0 > z1) continue;
+        for (int bx = x0 >> 2; bx <= x1 >> 2; ++bx)
+            for (int by = y0 >> 2; by <= y1 >> 2; ++by)
+                for (int bz = z0 >> 2; bz <= z1 >> 2; ++bz) {
+                    const int64_t slot = L.find(bx, by, bz);
+                    if (slot < 0) continue;
+                    const Brick& b = L.bricks[size_t(slot)];
+                    const float* w = L.pool.data() + b.offset;
+                    uint64_t bits = b.mask;
+                    for (int r = 0; bits; ++r) {
+                        const int n = std::countr_zero(bits);
+                        bits &= bits - 1;
+                        if (w[r] == 0.0f) continue;
+                        const Vec3 pos((b.ox + (n >> 4)) * h, (b.oy + ((n >> 2) & 3)) * h,
+                                       (b.oz + (n & 3)) * h);
+                        if (reaches(pos, R)) push(pos, double(w[r]), R);
+                    }
+                }
+    }
+}
+
+double LocalField::value(const Vec3& p) const {
+    double sum = 0;
+    const size_t n = mX.size();
+    for (size_t i = 0; i < n; ++i) {
+        const double dx = p.x - mX[i], dy = p.y - mY[i], dz = p.z - mZ[i];
+        const double r2 = dx * dx + dy * dy + dz * dz;
+        if (r2 >= mR2[i]) continue;
+        sum += mW[i] * mFalloff->value(std::sqrt(r2) * mInvR[i]);
+    }
+    return sum - mIso;
+}
+
+FieldSample LocalField::sample(const Vec3& p) const {
+    FieldSample out;
+    double sum = 0;
+    const size_t n = mX.size();
+    for (size_t i = 0; i < n; ++i) {
+        const Vec3 d(p.x - mX[i], p.y - mY[i], p.z - mZ[i]);
+        const double r2 = glm::dot(d, d);
+        if (r2 >= mR2[i]) continue;
+        const double r = std::sqrt(r2);
+        const double u = r * mInvR[i];
+        sum += mW[i] * mFalloff->value(u);
+        if (r > 0) out.gradient += d * (mW[i] * mFalloff->derivative(u) * mInvR[i] / r);
+    }
+    out.value = sum - mIso;
+    return out;
+}
+
+FieldBounds LocalField::bounds() const {
+    double lo = 0, hi = 0;
+    for (size_t i = 0; i < mX.size(); ++i) {
+        const Vec3 c(mX[i], mY[i], mZ[i]);
+        const Vec3 nearest = glm::clamp(c, mBox.min, mBox.max);
+        const Vec3 far(c.x < 0.5 * (mBox.min.x + mBox.max.x) ? mBox.max.x : mBox.min.x,
+                       c.y < 0.5 * (mBox.min.y + mBox.max.y) ? mBox.max.y : mBox.min.y,
+                       c.z < 0.5 * (mBox.min.z + mBox.max.z) ? mBox.max.z : mBox.min.z);
+        const double fNear = mFalloff->value(glm::length(c - nearest) * mInvR[i]);
+        const double fFar = mFalloff->value(glm::length(c - far) * mInvR[i]);
+        if (mW[i] > 0) {
+            lo += mW[i] * fFar;
+            hi += mW[i] * fNear;
+        } else {
+            lo += mW[i] * fNear;
+            hi += mW[i] * fFar;
+        }
+    }
+    // Widen by a rounding margin: the bounds decide what the polygonizer may skip.
+    const double margin = 1e-9 * (1 + std::abs(lo) + std::abs(hi));
+    return FieldBounds{lo - mIso - margin, hi - mIso + margin};
 }
 
 }  // namespace vsculpt::core

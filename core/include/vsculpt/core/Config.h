@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace vsculpt::core {
 
@@ -35,6 +36,23 @@ struct ManualSupport {
     std::array<double, kLevelCount> scale{};  ///< L_k, multiplies r4Mm; L_4 must be 1
 };
 
+/// Number of zoom levels (thesis: 5, each magnifying 2x).
+inline constexpr int kZoomLevels = 5;
+
+struct ZoomConfig {
+    /// Grid spacing at zoom 1 as a fraction of the level-6 tool's diameter (thesis: a
+    /// one-digit fraction of D_6); it halves with every zoom level.
+    double baseSpacingOverD6 = 0.125;
+    /// Tool levels offered at each zoom level (thesis: {8-z, 7-z, 6-z}).
+    std::array<std::vector<int>, kZoomLevels> allowedSizes{
+        std::vector<int>{7, 6, 5}, {6, 5, 4}, {5, 4, 3}, {4, 3, 2}, {3, 2, 1}};
+};
+
+struct PolygonizerConfig {
+    int gridN = 128;                   ///< N: cells per axis of the region on show (thesis: N^3)
+    double bisectionTolerance = 1e-3;  ///< edge-root tolerance, as a fraction of the spacing
+};
+
 struct SculptConfig {
     // tools
     double d4Mm = 10.0;                ///< diameter of the level-4 tool, mm
@@ -52,6 +70,9 @@ struct SculptConfig {
     // initial shape: a sphere, represented by one point skeleton of its own support radius
     double sphereRadiusMm = 40.0;  ///< 0 starts from empty space
     Vec3 sphereCenterMm{0.0};
+
+    ZoomConfig zoom;
+    PolygonizerConfig polygonizer;
 
     /// Where the values came from ("built-in defaults" or a file path), for messages.
     std::string source = "built-in defaults";

@@ -13,6 +13,9 @@
 
 #include <memory>
 #include <span>
+#include <vector>
+
+#include "vsculpt/core/Falloff.h"
 
 namespace vsculpt::core {
 
@@ -55,5 +58,40 @@ void evalFieldBatch(const Sculpture& sculpture, std::span<const Vec3> points,
 
 /// Reference implementation visiting every skeleton; for tests.
 FieldSample evalFieldBruteForce(const Sculpture& sculpture, const Vec3& objectPos);
+
+}  // namespace vsculpt::core
+
+namespace vsculpt::core {
+
+/// Conservative range of f over a box.
+struct FieldBounds {
+    double min = 0, max = 0;
+    bool mayContainSurface() const { return min <= 0 && max > 0; }
+};
+
+/// The skeletons whose support reaches an axis-aligned box, gathered once, for evaluating
+/// many points inside the box without any lookups (the polygonizer's blocks).
+///
+/// For points inside the box (boundary included), value() and sample() return exactly,
+/// bit for bit, what FieldProbe returns: the same skeletons are summed in the same order.
+/// The sculpture must not change while a LocalField is used.
+class LocalField {
+  public:
+    LocalField(const Sculpture& sculpture, const Aabb& box);
+
+    double value(const Vec3& objectPos) const;
+    FieldSample sample(const Vec3& objectPos) const;
+    /// Bounds of f over the box from each skeleton's nearest and farthest distance to it:
+    /// when the range does not include 0, no surface passes through the box.
+    FieldBounds bounds() const;
+    size_t skeletonCount() const { return mX.size(); }
+
+  private:
+    const HermiteFalloff* mFalloff;
+    double mIso;
+    Aabb mBox;
+    // Structure of arrays, in FieldProbe's summation order.
+    std::vector<double> mX, mY, mZ, mW, mInvR, mR2;
+};
 
 }  // namespace vsculpt::core

@@ -1,0 +1,103 @@
+// SPDX-License-Identifier: MIT
+/// @file Polygonizer.h
+/// @brief Parallel, incremental tetrahedral polygonizer of a sculpture's field over a grid
+/// region (thesis §3.2.1), kept as versioned chunks so a renderer re-uploads only what
+/// changed.
+///
+/// Each grid cube is split into the 6 Kuhn tetrahedra around its (0,0,0)-(1,1,1) diagonal,
+/// the same way in every cube, so neighbouring cubes share faces exactly. Field signs at the
+/// tetrahedron corners (inside: f > 0) give 0, 1 or 2 triangles; edge crossings are found by
+/// bisection to a tolerance; triangles face outward; vertices are shared per grid edge and
+/// carry normals from the field gradient.
+///
+/// Work is organised in blocks of 4^3 cells (the unit of rebuilding) and chunks of 16^3
+/// cells (the unit of publishing). Blocks the field provably cannot cross (LocalField
+/// bounds) cost no evaluations, so the cost follows the surface, not N^3. After an edit
+/// only the blocks touching the changed region are rebuilt, and the result equals a full
+/// rebuild exactly: every value is computed by the same operations in the same order.
+#pragma once
+
+#include "vsculpt/core/Mesh.h"
+#include "vsculpt/core/Zoom.h"
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace vsculpt::core {
+
+class Sculpture;
+
+struct PolygonizeStats {
+    size_t blocksConsidered = 0;  ///< blocks in the rebuilt range
+    size_t blocksCulled = 0;      ///< skipped: no surface can pass through them
+    size_t evaluations = 0;       ///< field evaluations (grid vertices, bisection, gradients)
+    size_t chunksChanged = 0;     ///< chunks whose mesh differs from before
+};
+
+class Polygonizer {
+  public:
+    static constexpr int kBlockCells = 4;
+    static constexpr int kChunkCells = 16;
+
+    /// @param relTolerance edge-root bisection tolerance as a fraction of the grid spacing
+    /// @pre region.n is a multiple of 16; the grid's integer coordinates fit in +-2^19.
+    Polygonizer(const Sculpture& sculpture, const GridRegion& region, double relTolerance);
+
+    /// Polygonizes every block. `threaded`: spread blocks over the oneTBB pool (the result
+    /// is the same either way).
+    PolygonizeStats rebuildAll(bool threaded = true);
+    /// Rebuilds the blocks whose cells touch `changedRegion` (object space, e.g. the union
+    /// of EditResult::changedRegion since the last call).
+    PolygonizeStats update(const Aabb& changedRegion, bool threaded = true);
+
+    const GridRegion& region() const { return mRegion; }
+
+    /// Validation mode (`vsculpt play --check`): polygonizes everything afresh and compares
+    /// with the incrementally maintained mesh. Empty when identical, else the first
+    /// difference (a triangle present in only one of them, with its coordinates).
+    std::string verifyAgainstFullRebuild() const;
+
+    /// The whole mesh, vertices welded per grid edge (deterministic order).
+    Mesh mesh() const;
+
+    int chunksPerAxis() const { return mRegion.n / kChunkCells; }
+    /// Incremented every time the chunk's mesh changes; 0 = never had triangles.
+    uint64_t chunkVersion(int cx, int cy, int cz) const;
+    /// One chunk's triangles as a self-contained indexed mesh (for upload).
+    Mesh chunkMesh(int cx, int cy, int cz) const;
+
+    /// Grid cells of one tetrahedron of the Kuhn split: corner indices (bit 0 = +x,
+    /// bit 1 = +y, bit 2 = +z) of tetrahedron t in 0..5.
+    static const std::array<std::array<int, 4>, 6>& kuhnTetrahedra();
+
+  private:
+    struct EdgeVertex {
+        uint64_t key;
+        Vec3 position, normal;
+        friend bool operator==(const EdgeVertex&, const EdgeVertex&) = default;
+    };
+    struct BlockMesh {
+        std::vector<EdgeVertex> vertices;                // sorted by key
+        std::vector<std::array<uint64_t, 3>> triangles;  // edge keys, outward order
+        friend bool operator==(const BlockMesh&, const BlockMesh&) = default;
+    };
+
+    size_t blockIndex(int bx, int by, int bz) const {
+        return (size_t(bx) * mBlocksPerAxis + by) * mBlocksPerAxis + bz;
+    }
+    Aabb blockBox(int bx, int by, int bz, int cells) const;
+    void buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& evaluations) const;
+    PolygonizeStats rebuild(const std::vector<std::array<int, 3>>& blocks, bool threaded,
+                            bool cullChunksFirst);
+
+    const Sculpture& mSculpture;
+    GridRegion mRegion;
+    double mTolerance;  // mm
+    int mBlocksPerAxis;
+    std::vector<BlockMesh> mBlocks;
+    std::vector<uint64_t> mChunkVersions;
+};
+
+}  // namespace vsculpt::core

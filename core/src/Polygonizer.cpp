@@ -1,0 +1,337 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/core/Polygonizer.h"
+
+#include "vsculpt/core/EvalField.h"
+#include "vsculpt/core/Sculpture.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace vsculpt::core {
+
+namespace {
+
+constexpr int64_t kCoordLimit = int64_t(1) << 19;
+
+/// Grid edge from vertex g (the componentwise smaller end) along dir (bits x, y, z).
+uint64_t edgeKey(int64_t gx, int64_t gy, int64_t gz, int dir) {
+    constexpr uint64_t m = (uint64_t(1) << 20) - 1;
+    return (uint64_t(gx) & m) | ((uint64_t(gy) & m) << 20) | ((uint64_t(gz) & m) << 40) |
+           (uint64_t(dir) << 60);
+}
+
+Vec3 cornerOffset(int c) {
+    return Vec3(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+}
+
+}  // namespace
+
+const std::array<std::array<int, 4>, 6>& Polygonizer::kuhnTetrahedra() {
+    // One tetrahedron per order of the axes: 0 -> +first -> +second -> (1,1,1).
+    static const std::array<std::array<int, 4>, 6> tets = {{
+        {0, 1, 3, 7},  // x, y, z
+        {0, 1, 5, 7},  // x, z, y
+        {0, 2, 3, 7},  // y, x, z
+        {0, 2, 6, 7},  // y, z, x
+        {0, 4, 5, 7},  // z, x, y
+        {0, 4, 6, 7},  // z, y, x
+    }};
+    return tets;
+}
+
+Polygonizer::Polygonizer(const Sculpture& sculpture, const GridRegion& region, double relTolerance)
+    : mSculpture(sculpture), mRegion(region), mTolerance(relTolerance * region.spacingMm) {
+    if (region.n <= 0 || region.n % kChunkCells != 0)
+        throw std::invalid_argument("polygonizer grid N must be a positive multiple of 16");
+    for (int a = 0; a < 3; ++a)
+        if (std::abs(region.originCell[a]) + region.n + 1 >= kCoordLimit)
+            throw std::invalid_argument("polygonizer region lies outside the grid's range");
+    if (!(relTolerance > 0)) throw std::invalid_argument("bisection tolerance must be > 0");
+    mBlocksPerAxis = region.n / kBlockCells;
+    mBlocks.resize(size_t(mBlocksPerAxis) * mBlocksPerAxis * mBlocksPerAxis);
+    const int c = chunksPerAxis();
+    mChunkVersions.assign(size_t(c) * c * c, 0);
+}
+
+Aabb Polygonizer::blockBox(int bx, int by, int bz, int cells) const {
+    const auto& o = mRegion.originCell;
+    const int64_t x = o[0] + int64_t(bx) * kBlockCells, y = o[1] + int64_t(by) * kBlockCells,
+                  z = o[2] + int64_t(bz) * kBlockCells;
+    return Aabb{mRegion.vertexPos(x, y, z), mRegion.vertexPos(x + cells, y + cells, z + cells)};
+}
+
+void Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& evals) const {
+    out.vertices.clear();
+    out.triangles.clear();
+    const LocalField field(mSculpture, blockBox(bx, by, bz, kBlockCells));
+    if (!field.bounds().mayContainSurface()) return;
+
+    constexpr int V = kBlockCells + 1;
+    const int64_t gx0 = mRegion.originCell[0] + int64_t(bx) * kBlockCells;
+    const int64_t gy0 = mRegion.originCell[1] + int64_t(by) * kBlockCells;
+    const int64_t gz0 = mRegion.originCell[2] + int64_t(bz) * kBlockCells;
+    double values[V][V][V];
+    bool anyIn = false, anyOut = false;
+    for (int i = 0; i < V; ++i)
+        for (int j = 0; j < V; ++j)
+            for (int k = 0; k < V; ++k) {
+                const double f = field.value(mRegion.vertexPos(gx0 + i, gy0 + j, gz0 + k));
+                values[i][j][k] = f;
+                (f > 0 ? anyIn : anyOut) = true;
+            }
+    evals += V * V * V;
+    if (!anyIn || !anyOut) return;
+
+    std::unordered_map<uint64_t, size_t> vertexOf;  // edge key -> index in out.vertices
+    // The crossing on the grid edge from local vertex a along dir (both ends in the block).
+    auto crossing = [&](int ai, int aj, int ak, int dir) -> uint64_t {
+        const uint64_t key = edgeKey(gx0 + ai, gy0 + aj, gz0 + ak, dir);
+        if (vertexOf.count(key)) return key;
+        const int bi = ai + (dir & 1), bj = aj + ((dir >> 1) & 1), bk = ak + ((dir >> 2) & 1);
+        Vec3 lo = mRegion.vertexPos(gx0 + ai, gy0 + aj, gz0 + ak);
+        Vec3 hi = mRegion.vertexPos(gx0 + bi, gy0 + bj, gz0 + bk);
+        double flo = values[ai][aj][ak], fhi = values[bi][bj][bk];
+        // Always from the smaller end, so every block computing this edge gets the same bits.
+        const bool loInside = flo > 0;
+        while (glm::length(hi - lo) > mTolerance) {
+            const Vec3 mid = 0.5 * (lo + hi);
+            const double fm = field.value(mid);
+            ++evals;
+            if ((fm > 0) == loInside) {
+                lo = mid;
+                flo = fm;
+            } else {
+                hi = mid;
+                fhi = fm;
+            }
+        }
+        const double t = flo / (flo - fhi);  // final linear step inside the bracket
+        const Vec3 p = lo + std::clamp(t, 0.0, 1.0) * (hi - lo);
+        const FieldSample s = field.sample(p);
+        ++evals;
+        const double g = glm::length(s.gradient);
+        const Vec3 n = g > 0 ? -s.gradient / g : Vec3(0.0);
+        vertexOf.emplace(key, out.vertices.size());
+        out.vertices.push_back(EdgeVertex{key, p, n});
+        return key;
+    };
+
+    const auto& tets = kuhnTetrahedra();
+    for (int i = 0; i < kBlockCells; ++i)
+        for (int j = 0; j < kBlockCells; ++j)
+            for (int k = 0; k < kBlockCells; ++k) {
+                double f[8];
+                int inside = 0;
+                for (int c = 0; c < 8; ++c) {
+                    f[c] = values[i + (c & 1)][j + ((c >> 1) & 1)][k + ((c >> 2) & 1)];
+                    inside += f[c] > 0;
+                }
+                if (inside == 0 || inside == 8) continue;
+                for (const auto& t : tets) {
+                    int in[4], out4[4], nIn = 0, nOut = 0;
+                    for (int c : t)
+                        (f[c] > 0 ? in[nIn++] : out4[nOut++]) = c;
+                    if (nIn == 0 || nOut == 0) continue;
+                    // Tetrahedron edges join corners a < b with b's bits a superset of a's.
+                    auto edge = [&](int a, int b) {
+                        const int lo = std::min(a, b), hi = std::max(a, b);
+                        return crossing(i + (lo & 1), j + ((lo >> 1) & 1), k + ((lo >> 2) & 1),
+                                        hi ^ lo);
+                    };
+                    auto mid = [](int a, int b) {
+                        return 0.5 * (cornerOffset(a) + cornerOffset(b));
+                    };
+                    // Outward: from the inside corners towards the outside ones.
+                    Vec3 g(0.0);
+                    for (int q = 0; q < nOut; ++q)
+                        g += cornerOffset(out4[q]);
+                    for (int q = 0; q < nIn; ++q)
+                        g -= cornerOffset(in[q]);
+                    std::array<std::pair<int, int>, 4> e{};
+                    int ne = 0;
+                    if (nIn == 1) {
+                        for (int q = 0; q < 3; ++q)
+                            e[ne++] = {in[0], out4[q]};
+                    } else if (nOut == 1) {
+                        for (int q = 0; q < 3; ++q)
+                            e[ne++] = {in[q], out4[0]};
+                    } else {  // two and two: a quad, cyclic through shared corners
+                        e = {{{in[0], out4[0]},
+                              {in[0], out4[1]},
+                              {in[1], out4[1]},
+                              {in[1], out4[0]}}};
+                        ne = 4;
+                    }
+                    const Vec3 m0 = mid(e[0].first, e[0].second);
+                    const Vec3 m1 = mid(e[1].first, e[1].second);
+                    const Vec3 m2 = mid(e[2].first, e[2].second);
+                    const bool flip = glm::dot(glm::cross(m1 - m0, m2 - m0), g) < 0;
+                    uint64_t key[4];
+                    for (int q = 0; q < ne; ++q)
+                        key[q] = edge(e[q].first, e[q].second);
+                    auto emit = [&](uint64_t a, uint64_t b, uint64_t c) {
+                        out.triangles.push_back(flip ? std::array<uint64_t, 3>{a, c, b}
+                                                     : std::array<uint64_t, 3>{a, b, c});
+                    };
+                    emit(key[0], key[1], key[2]);
+                    if (ne == 4) emit(key[0], key[2], key[3]);
+                }
+            }
+    std::sort(out.vertices.begin(), out.vertices.end(),
+              [](const EdgeVertex& a, const EdgeVertex& b) { return a.key < b.key; });
+}
+
+PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& blocks, bool threaded,
+                                     bool cullChunksFirst) {
+    PolygonizeStats stats;
+    stats.blocksConsidered = blocks.size();
+    std::vector<char> culled(blocks.size(), 0);
+    if (cullChunksFirst) {
+        // One bounds test per chunk saves one per block in the (many) empty chunks.
+        const int c = chunksPerAxis();
+        std::vector<char> chunkCulled(size_t(c) * c * c, 0);
+        auto testChunk = [&](size_t idx) {
+            const int cx = int(idx / (size_t(c) * c)), cy = int(idx / c % c), cz = int(idx % c);
+            const int per = kChunkCells / kBlockCells;
+            const LocalField field(mSculpture, blockBox(cx * per, cy * per, cz * per, kChunkCells));
+            chunkCulled[idx] = !field.bounds().mayContainSurface();
+        };
+        if (threaded)
+            tbb::parallel_for(size_t(0), chunkCulled.size(), testChunk);
+        else
+            for (size_t i = 0; i < chunkCulled.size(); ++i)
+                testChunk(i);
+        const int per = kChunkCells / kBlockCells;
+        for (size_t i = 0; i < blocks.size(); ++i) {
+            const auto& b = blocks[i];
+            culled[i] = chunkCulled[(size_t(b[0] / per) * c + b[1] / per) * c + b[2] / per];
+        }
+    }
+    std::vector<char> changed(blocks.size(), 0);
+    tbb::combinable<size_t> evals([] { return size_t(0); });
+    auto work = [&](size_t i) {
+        const auto& b = blocks[i];
+        BlockMesh fresh;
+        if (!culled[i]) buildBlock(b[0], b[1], b[2], fresh, evals.local());
+        BlockMesh& slot = mBlocks[blockIndex(b[0], b[1], b[2])];
+        if (!(fresh == slot)) {
+            slot = std::move(fresh);
+            changed[i] = 1;
+        }
+    };
+    if (threaded)
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks.size(), 4),
+                          [&](const tbb::blocked_range<size_t>& r) {
+                              for (size_t i = r.begin(); i != r.end(); ++i)
+                                  work(i);
+                          });
+    else
+        for (size_t i = 0; i < blocks.size(); ++i)
+            work(i);
+
+    stats.evaluations = evals.combine(std::plus<size_t>());
+    const int c = chunksPerAxis(), per = kChunkCells / kBlockCells;
+    std::vector<char> chunkChanged(mChunkVersions.size(), 0);
+    for (size_t i = 0; i < blocks.size(); ++i) {
+        stats.blocksCulled += culled[i];
+        if (!changed[i]) continue;
+        const auto& b = blocks[i];
+        chunkChanged[(size_t(b[0] / per) * c + b[1] / per) * c + b[2] / per] = 1;
+    }
+    for (size_t i = 0; i < chunkChanged.size(); ++i) {
+        if (!chunkChanged[i]) continue;
+        ++mChunkVersions[i];
+        ++stats.chunksChanged;
+    }
+    return stats;
+}
+
+PolygonizeStats Polygonizer::rebuildAll(bool threaded) {
+    std::vector<std::array<int, 3>> blocks;
+    blocks.reserve(mBlocks.size());
+    for (int x = 0; x < mBlocksPerAxis; ++x)
+        for (int y = 0; y < mBlocksPerAxis; ++y)
+            for (int z = 0; z < mBlocksPerAxis; ++z)
+                blocks.push_back({x, y, z});
+    return rebuild(blocks, threaded, true);
+}
+
+PolygonizeStats Polygonizer::update(const Aabb& changed, bool threaded) {
+    if (changed.empty()) return {};
+    const Aabb box = mRegion.box();
+    if (!changed.intersects(box)) return {};
+    const double blockSize = kBlockCells * mRegion.spacingMm;
+    std::array<int, 3> lo{}, hi{};
+    for (int a = 0; a < 3; ++a) {
+        // Closed boxes: a block that only touches the changed region is rebuilt too.
+        lo[a] = std::max(0, int(std::floor((changed.min[a] - box.min[a]) / blockSize)) - 1);
+        hi[a] = std::min(mBlocksPerAxis - 1,
+                         int(std::floor((changed.max[a] - box.min[a]) / blockSize)) + 1);
+    }
+    std::vector<std::array<int, 3>> blocks;
+    for (int x = lo[0]; x <= hi[0]; ++x)
+        for (int y = lo[1]; y <= hi[1]; ++y)
+            for (int z = lo[2]; z <= hi[2]; ++z)
+                if (blockBox(x, y, z, kBlockCells).intersects(changed)) blocks.push_back({x, y, z});
+    return rebuild(blocks, threaded, false);
+}
+
+Mesh Polygonizer::mesh() const {
+    Mesh m;
+    std::unordered_map<uint64_t, uint32_t> index;
+    for (const BlockMesh& b : mBlocks) {
+        for (const EdgeVertex& v : b.vertices) {
+            if (index.emplace(v.key, uint32_t(m.positions.size())).second) {
+                m.positions.push_back(v.position);
+                m.normals.push_back(v.normal);
+            }
+        }
+        for (const auto& t : b.triangles)
+            for (uint64_t k : t)
+                m.indices.push_back(index.at(k));
+    }
+    return m;
+}
+
+std::string Polygonizer::verifyAgainstFullRebuild() const {
+    Polygonizer full(mSculpture, mRegion, mTolerance / mRegion.spacingMm);
+    full.rebuildAll();
+    const Mesh a = mesh(), b = full.mesh();
+    if (canonicalMeshHash(a) == canonicalMeshHash(b)) return "";
+    const std::string diff = firstMeshDifference(a, b);
+    return "incremental mesh differs from a full rebuild: " +
+           (diff.empty() ? std::string("same triangles, different hash") : diff);
+}
+
+uint64_t Polygonizer::chunkVersion(int cx, int cy, int cz) const {
+    const int c = chunksPerAxis();
+    return mChunkVersions.at((size_t(cx) * c + cy) * c + cz);
+}
+
+Mesh Polygonizer::chunkMesh(int cx, int cy, int cz) const {
+    Mesh m;
+    std::unordered_map<uint64_t, uint32_t> index;
+    const int per = kChunkCells / kBlockCells;
+    for (int x = cx * per; x < (cx + 1) * per; ++x)
+        for (int y = cy * per; y < (cy + 1) * per; ++y)
+            for (int z = cz * per; z < (cz + 1) * per; ++z) {
+                const BlockMesh& b = mBlocks[blockIndex(x, y, z)];
+                for (const EdgeVertex& v : b.vertices)
+                    if (index.emplace(v.key, uint32_t(m.positions.size())).second) {
+                        m.positions.push_back(v.position);
+                        m.normals.push_back(v.normal);
+                    }
+                for (const auto& t : b.triangles)
+                    for (uint64_t k : t)
+                        m.indices.push_back(index.at(k));
+            }
+    return m;
+}
+
+}  // namespace vsculpt::core

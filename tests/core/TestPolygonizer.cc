@@ -1,0 +1,327 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/core/Polygonizer.h"
+
+#include "TestHelpers.h"
+
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include <map>
+#include <random>
+#include <set>
+
+using namespace vsculpt::core;
+using vsculpt::test::emptyConfig;
+using vsculpt::test::linePath;
+
+namespace {
+
+double det3(const Vec3& a, const Vec3& b, const Vec3& c) {
+    return glm::dot(a, glm::cross(b, c));
+}
+
+Vec3 corner(int c) {
+    return Vec3(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+}
+
+TEST(Polygonizer, KuhnTetrahedraTileTheCube) {
+    const auto& tets = Polygonizer::kuhnTetrahedra();
+    double volume = 0;
+    for (const auto& t : tets) {
+        const double v = std::abs(det3(corner(t[1]) - corner(t[0]), corner(t[2]) - corner(t[0]),
+                                       corner(t[3]) - corner(t[0]))) /
+                         6;
+        EXPECT_NEAR(v, 1.0 / 6, 1e-15);
+        volume += v;
+    }
+    EXPECT_NEAR(volume, 1.0, 1e-15);
+    // No overlap: random interior points lie in exactly one tetrahedron.
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> U(0, 1);
+    for (int i = 0; i < 20000; ++i) {
+        const Vec3 p(U(rng), U(rng), U(rng));
+        int containing = 0;
+        for (const auto& t : tets) {
+            const Vec3 a = corner(t[0]), b = corner(t[1]), c = corner(t[2]), d = corner(t[3]);
+            const double v = det3(b - a, c - a, d - a);
+            const double l0 = det3(b - p, c - p, d - p) / v, l1 = det3(p - a, c - a, d - a) / v,
+                         l2 = det3(b - a, p - a, d - a) / v, l3 = det3(b - a, c - a, p - a) / v;
+            containing += l0 > 0 && l1 > 0 && l2 > 0 && l3 > 0;
+        }
+        ASSERT_EQ(containing, 1) << p.x << " " << p.y << " " << p.z;
+    }
+}
+
+TEST(Polygonizer, CubeFacesAreSplitAlikeOnOppositeSides) {
+    // Boundary triangles of the tetrahedra on face axis=0 must equal those on axis=1
+    // shifted, so neighbouring cubes (one's +face is the other's -face) share them.
+    for (int axis = 0; axis < 3; ++axis) {
+        std::set<std::set<int>> low, high;  // triangles as corner sets projected to the face
+        for (const auto& t : Polygonizer::kuhnTetrahedra()) {
+            for (int skip = 0; skip < 4; ++skip) {
+                std::set<int> face;
+                for (int q = 0; q < 4; ++q)
+                    if (q != skip) face.insert(t[q]);
+                bool allLow = true, allHigh = true;
+                for (int c : face) {
+                    allLow &= !((c >> axis) & 1);
+                    allHigh &= ((c >> axis) & 1) != 0;
+                }
+                std::set<int> projected;
+                for (int c : face)
+                    projected.insert(c & ~(1 << axis));
+                if (allLow) low.insert(projected);
+                if (allHigh) high.insert(projected);
+            }
+        }
+        EXPECT_EQ(low.size(), 2u);
+        EXPECT_EQ(low, high) << "axis " << axis;
+    }
+}
+
+GridRegion regionAround(const Vec3& center, double spacing, int n) {
+    GridRegion r;
+    r.spacingMm = spacing;
+    r.n = n;
+    for (int a = 0; a < 3; ++a)
+        r.originCell[a] = std::llround(center[a] / spacing) - n / 2;
+    return r;
+}
+
+TEST(Polygonizer, SphereIsClosedAccurateAndConverges) {
+    SculptConfig cfg = emptyConfig(PlacementMode::Free);
+    cfg.sphereRadiusMm = 20;
+    cfg.sphereCenterMm = Vec3(0.3, -0.7, 0.2);
+    const Sculpture s(cfg);
+    const double r = 20, exact = 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    double prevVolErr = 1e300, prevDev = 1e300;
+    for (double spacing : {2.0, 1.0, 0.5}) {
+        const int n = int(std::ceil(48 / spacing / 16)) * 16;
+        Polygonizer poly(s, regionAround(cfg.sphereCenterMm, spacing, n), 1e-4);
+        poly.rebuildAll();
+        const Mesh m = poly.mesh();
+        const MeshTopology topo = analyzeTopology(m);
+        ASSERT_TRUE(topo.watertight()) << "spacing " << spacing;
+        EXPECT_EQ(topo.eulerCharacteristic, 2);
+        EXPECT_EQ(topo.components, 1u);
+        FieldProbe probe(s);
+        double maxF = 0, dev = 0;
+        for (const Vec3& p : m.positions)
+            maxF = std::max(maxF, std::abs(probe.value(p)));
+        // |f| at a vertex is at most the slope times the bisection bracket (1e-4 spacing).
+        const double slope = glm::length(probe.sample(cfg.sphereCenterMm + Vec3(r, 0, 0)).gradient);
+        EXPECT_LT(maxF, slope * 1e-4 * spacing) << "spacing " << spacing;
+        for (size_t t = 0; t < m.triangleCount(); ++t) {  // deviation of faces from the sphere
+            const Vec3 c = (m.positions[m.indices[3 * t]] + m.positions[m.indices[3 * t + 1]] +
+                            m.positions[m.indices[3 * t + 2]]) /
+                           3.0;
+            dev = std::max(dev, std::abs(glm::length(c - cfg.sphereCenterMm) - r));
+        }
+        for (size_t i = 0; i < m.normals.size(); i += 7)  // normals point outward
+            EXPECT_GT(glm::dot(m.normals[i], m.positions[i] - cfg.sphereCenterMm), 0);
+        const double volErr = std::abs(meshVolume(m) - exact) / exact;
+        EXPECT_LT(volErr, prevVolErr / 2.5) << "spacing " << spacing;  // ~4x per halving
+        EXPECT_LT(dev, spacing);                                       // Hausdorff <= h
+        EXPECT_LT(dev, prevDev / 2.5);
+        prevVolErr = volErr;
+        prevDev = dev;
+    }
+}
+
+TEST(Polygonizer, LocalFieldEqualsTheProbeBitForBit) {
+    SculptConfig cfg = emptyConfig(PlacementMode::Free);
+    cfg.sphereRadiusMm = 15;
+    Sculpture s(cfg);
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> U(-25, 25);
+    for (int i = 0; i < 20; ++i)
+        applyStroke(s, i % 4 == 3 ? ToolOp::Carve : ToolOp::Add, 1 + i % 6,
+                    linePath(Vec3(U(rng), U(rng), U(rng)), Vec3(U(rng), U(rng), U(rng)), 1.0));
+    FieldProbe probe(s);
+    for (int b = 0; b < 30; ++b) {
+        const Vec3 lo(U(rng), U(rng), U(rng));
+        const Aabb box{lo, lo + Vec3(4.5)};
+        const LocalField local(s, box);
+        const FieldBounds bounds = local.bounds();
+        std::uniform_real_distribution<double> V(0, 4.5);
+        for (int i = 0; i < 200; ++i) {
+            const Vec3 p = lo + Vec3(V(rng), V(rng), V(rng));
+            const FieldSample a = probe.sample(p), c = local.sample(p);
+            ASSERT_EQ(a.value, c.value);
+            ASSERT_EQ(a.gradient, c.gradient);
+            ASSERT_EQ(local.value(p), a.value);
+            ASSERT_GE(a.value, bounds.min);
+            ASSERT_LE(a.value, bounds.max);
+        }
+    }
+}
+
+struct Scenario {
+    PlacementMode mode;
+    int zoom;
+};
+
+/// Random strokes of every size allowed at a zoom level, near the sphere's surface inside the
+/// zoomed region; after every tool sample the incremental mesh is updated, after every
+/// stroke it must equal a full rebuild exactly.
+class PartialEqualsFull : public ::testing::TestWithParam<Scenario> {};
+
+TEST_P(PartialEqualsFull, AfterRandomStrokes) {
+    const auto [mode, zoom] = GetParam();
+    SculptConfig cfg = emptyConfig(mode);
+    cfg.sphereRadiusMm = 30;
+    cfg.polygonizer.gridN = 48;
+    Sculpture s(cfg);
+    const Vec3 focus = glm::normalize(Vec3(0.3, 0.5, 0.8)) * 30.0;
+    const GridRegion region = zoomRegion(cfg, s.levels(), zoom, focus);
+    Polygonizer poly(s, region, cfg.polygonizer.bisectionTolerance);
+    poly.rebuildAll();
+    std::mt19937 rng(100 + zoom * 7 + int(mode));
+    const double extent = 0.3 * region.n * region.spacingMm;
+    std::uniform_real_distribution<double> U(-extent, extent);
+    const Vec3 c = zoom == 1 ? Vec3(0, 0, 0) : focus;
+    for (int stroke = 0; stroke < 6; ++stroke) {
+        const auto& sizes = cfg.zoom.allowedSizes[zoom - 1];
+        const int level = sizes[stroke % sizes.size()];
+        const ToolOp op = stroke % 3 == 2 ? ToolOp::Carve : ToolOp::Add;
+        StrokeBuilder builder(s, op, level);
+        const Vec3 a = c + Vec3(U(rng), U(rng), U(rng)), b = c + Vec3(U(rng), U(rng), U(rng));
+        for (const Vec3& p : linePath(a, b, 0.4 * s.levels().level(level).diameterMm))
+            poly.update(builder.addSample(p).changedRegion);
+        Polygonizer full(s, region, cfg.polygonizer.bisectionTolerance);
+        full.rebuildAll();
+        const Mesh inc = poly.mesh(), ref = full.mesh();
+        ASSERT_EQ(canonicalMeshHash(inc), canonicalMeshHash(ref))
+            << "stroke " << stroke << ": " << firstMeshDifference(inc, ref);
+    }
+    EXPECT_EQ(poly.verifyAgainstFullRebuild(), "");
+    // When the whole sculpture lies inside the region, its mesh is closed.
+    const Aabb all = s.supportBounds(), box = region.box();
+    if (box.contains(all.min) && box.contains(all.max))
+        EXPECT_TRUE(analyzeTopology(poly.mesh()).watertight());
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    ZoomsAndModes, PartialEqualsFull,
+    ::testing::Values(Scenario{PlacementMode::Free, 1}, Scenario{PlacementMode::Free, 2},
+                      Scenario{PlacementMode::Free, 3}, Scenario{PlacementMode::Free, 4},
+                      Scenario{PlacementMode::Free, 5}, Scenario{PlacementMode::Thesis, 1},
+                      Scenario{PlacementMode::Thesis, 3}, Scenario{PlacementMode::Thesis, 5}),
+    [](const auto& info) {
+        return std::string(toString(info.param.mode)) + "_zoom" + std::to_string(info.param.zoom);
+    });
+
+TEST(Polygonizer, CarvingThroughSplitsIntoPiecesAndStaysExact) {
+    SculptConfig cfg = emptyConfig(PlacementMode::Free);
+    Sculpture s(cfg);
+    const GridRegion region = regionAround(Vec3(0), 1.5, 64);
+    Polygonizer poly(s, region, 1e-3);
+    poly.rebuildAll();
+    auto strokeAndUpdate = [&](ToolOp op, int level, const Vec3& a, const Vec3& b) {
+        StrokeBuilder builder(s, op, level);
+        for (const Vec3& p : linePath(a, b, 1.0))
+            poly.update(builder.addSample(p).changedRegion);
+    };
+    strokeAndUpdate(ToolOp::Add, 4, Vec3(-30, 0, 0), Vec3(30, 0, 0));  // a bar
+    EXPECT_EQ(analyzeTopology(poly.mesh()).components, 1u);
+    strokeAndUpdate(ToolOp::Carve, 5, Vec3(0, -20, -20), Vec3(0, 20, 20));  // cut across it
+    const Mesh inc = poly.mesh();
+    const MeshTopology topo = analyzeTopology(inc);
+    EXPECT_TRUE(topo.watertight());
+    EXPECT_EQ(topo.components, 2u);
+    EXPECT_EQ(topo.eulerCharacteristic, 4);  // two spheres
+    Polygonizer full(s, region, 1e-3);
+    full.rebuildAll();
+    EXPECT_EQ(canonicalMeshHash(inc), canonicalMeshHash(full.mesh()))
+        << firstMeshDifference(inc, full.mesh());
+}
+
+TEST(Polygonizer, SameMeshAtAnyThreadCount) {
+    SculptConfig cfg = emptyConfig(PlacementMode::Free);
+    cfg.sphereRadiusMm = 25;
+    Sculpture s(cfg);
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<double> U(-30, 30);
+    for (int i = 0; i < 12; ++i)
+        applyStroke(s, i % 3 == 2 ? ToolOp::Carve : ToolOp::Add, 3 + i % 4,
+                    linePath(Vec3(U(rng), U(rng), U(rng)), Vec3(U(rng), U(rng), U(rng)), 2.0));
+    const GridRegion region = zoomRegion(cfg, s.levels(), 1, Vec3(0));
+    std::vector<uint64_t> hashes;
+    for (int threads : {1, 2, 4}) {
+        tbb::task_arena arena(threads);
+        arena.execute([&] {
+            Polygonizer poly(s, region, 1e-3);
+            poly.rebuildAll(true);
+            hashes.push_back(canonicalMeshHash(poly.mesh()));
+        });
+    }
+    Polygonizer serial(s, region, 1e-3);
+    serial.rebuildAll(false);
+    hashes.push_back(canonicalMeshHash(serial.mesh()));
+    for (uint64_t h : hashes)
+        EXPECT_EQ(h, hashes.front());
+}
+
+// ------------------------------------------------------------------------------ zoom
+
+TEST(Zoom, SpacingHalvesAndCellCountStays) {
+    const SculptConfig cfg;
+    const Sculpture s(cfg);
+    for (int z = 1; z <= kZoomLevels; ++z) {
+        const GridRegion r = zoomRegion(cfg, s.levels(), z, Vec3(10, -5, 30));
+        EXPECT_EQ(r.n, cfg.polygonizer.gridN);
+        EXPECT_DOUBLE_EQ(r.spacingMm, cfg.zoom.baseSpacingOverD6 * s.levels().level(6).diameterMm /
+                                          std::pow(2.0, z - 1));
+        if (z > 1) {  // centred on the selection, within one grid step
+            const Aabb b = r.box();
+            EXPECT_NEAR(0.5 * (b.min.x + b.max.x), 10, r.spacingMm);
+            EXPECT_NEAR(0.5 * (b.min.z + b.max.z), 30, r.spacingMm);
+        }
+    }
+}
+
+TEST(Zoom, AllowedSizesFollowTheThesisTable) {
+    const SculptConfig cfg;
+    for (int z = 1; z <= kZoomLevels; ++z)
+        for (int k = 1; k <= kLevelCount; ++k)
+            EXPECT_EQ(toolAllowedAtZoom(cfg, z, k), k == 8 - z || k == 7 - z || k == 6 - z)
+                << "zoom " << z << " level " << k;
+    EXPECT_THROW(toolAllowedAtZoom(cfg, 6, 1), std::out_of_range);
+}
+
+TEST(Zoom, ZoomedMeshIsTheFullResolutionMeshClipped) {
+    SculptConfig cfg = emptyConfig(PlacementMode::Free);
+    cfg.sphereRadiusMm = 30;
+    cfg.polygonizer.gridN = 32;
+    Sculpture s(cfg);
+    applyStroke(s, ToolOp::Add, 3, linePath(Vec3(-10, 0, 29), Vec3(10, 5, 30), 1.0));
+    const size_t skeletons = s.store().vertexCount();
+    const Vec3 focus(0, 0, 30);
+    const GridRegion small = zoomRegion(cfg, s.levels(), 4, focus);
+    GridRegion big = small;  // same spacing and lattice, three times as wide
+    big.n = 96;
+    for (int a = 0; a < 3; ++a)
+        big.originCell[a] -= 32;
+    Polygonizer zoomed(s, small, 1e-3), wide(s, big, 1e-3);
+    zoomed.rebuildAll();
+    wide.rebuildAll();
+    const Mesh zm = zoomed.mesh(), wm = wide.mesh();
+    // The wide mesh's triangles whose centroids lie in the small region, as a mesh.
+    Mesh clipped;
+    clipped.positions = wm.positions;
+    const Aabb box = small.box();
+    for (size_t t = 0; t < wm.triangleCount(); ++t) {
+        const Vec3 c = (wm.positions[wm.indices[3 * t]] + wm.positions[wm.indices[3 * t + 1]] +
+                        wm.positions[wm.indices[3 * t + 2]]) /
+                       3.0;
+        if (box.contains(c))
+            for (int q = 0; q < 3; ++q)
+                clipped.indices.push_back(wm.indices[3 * t + q]);
+    }
+    ASSERT_GT(zm.triangleCount(), 100u);
+    EXPECT_EQ(canonicalMeshHash(zm), canonicalMeshHash(clipped))
+        << firstMeshDifference(zm, clipped);
+    EXPECT_EQ(s.store().vertexCount(), skeletons);  // zooming adds no shape data
+}
+
+}  // namespace

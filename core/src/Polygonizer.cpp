@@ -248,6 +248,7 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
         if (!chunkChanged[i]) continue;
         ++mChunkVersions[i];
         ++stats.chunksChanged;
+        stats.changedChunks.push_back({int(i / (size_t(c) * c)), int(i / c % c), int(i % c)});
     }
     return stats;
 }

@@ -34,6 +34,10 @@ TEST(Config, ShippedFileEqualsBuiltInDefaults) {
     EXPECT_EQ(file.placement, def.placement);
     EXPECT_EQ(file.sphereRadiusMm, def.sphereRadiusMm);
     EXPECT_EQ(file.sphereCenterMm, def.sphereCenterMm);
+    EXPECT_EQ(file.zoom.baseSpacingOverD6, def.zoom.baseSpacingOverD6);
+    EXPECT_EQ(file.zoom.allowedSizes, def.zoom.allowedSizes);
+    EXPECT_EQ(file.polygonizer.gridN, def.polygonizer.gridN);
+    EXPECT_EQ(file.polygonizer.bisectionTolerance, def.polygonizer.bisectionTolerance);
     // The thesis's values.
     EXPECT_EQ(def.growth, 1.5);
     EXPECT_EQ(def.spacingOverDiameter, 0.5);
@@ -103,6 +107,16 @@ TEST(Config, BadValuesNameTheKeyAndReason) {
         {R"({"initial_sphere": {"center_mm": [0, 0]}})",
          "initial_sphere.center_mm: expected [x, y, z]"},
         {R"([1, 2])", "top level: expected an object"},
+        {R"({"zoom": {"levels": 7}})", "zoom.levels: vsculpt has exactly 5 zoom levels"},
+        {R"({"zoom": {"allowed_sizes": [[7], [6], [5], [4]]}})", "zoom.allowed_sizes: expected 5 lists"},
+        {R"({"zoom": {"allowed_sizes": [[7], [6], [5], [4], [9]]}})",
+         "zoom.allowed_sizes[4]: tool levels are integers 1..7"},
+        {R"({"zoom": {"allowed_sizes": [[7], [6], [5, 5], [4], [3]]}})",
+         "zoom.allowed_sizes[2]: level 5 listed twice"},
+        {R"({"zoom": {"base_spacing_over_d6": 0}})", "zoom.base_spacing_over_d6: must be in (0, 2]"},
+        {R"({"polygonizer": {"grid_n": 100}})", "polygonizer.grid_n: must be a multiple of 16"},
+        {R"({"polygonizer": {"grid_n": 1.5}})", "polygonizer.grid_n: expected an integer"},
+        {R"({"polygonizer": {"bisection_tolerance": 0.9}})", "polygonizer.bisection_tolerance: must be in"},
     };
     for (const Bad& b : cases) {
         const std::string e = errorOf(b.json);
@@ -123,7 +137,7 @@ TEST(Config, MissingFileIsAConfigErrorNamingThePath) {
 
 TEST(Config, CommentsAndLaterStageSectionsAreAccepted) {
     const SculptConfig c = parseConfig(
-        "// header\n{ /* inline */ \"tools\": {\"d4_mm\": 8}, \"zoom\": {\"levels\": 5} }",
+        "// header\n{ /* inline */ \"tools\": {\"d4_mm\": 8}, \"render\": {\"eyes\": 2} }",
         "c.json");
     EXPECT_EQ(c.d4Mm, 8);
 }

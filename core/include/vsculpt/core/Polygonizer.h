@@ -34,6 +34,7 @@ struct PolygonizeStats {
     size_t blocksCulled = 0;      ///< skipped: no surface can pass through them
     size_t evaluations = 0;       ///< field evaluations (grid vertices, bisection, gradients)
     size_t chunksChanged = 0;     ///< chunks whose mesh differs from before
+    std::vector<std::array<int, 3>> changedChunks;  ///< their indices, for re-upload
 };
 
 class Polygonizer {

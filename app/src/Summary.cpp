@@ -2,8 +2,10 @@
 #include "vsculpt/app/Summary.h"
 
 #include "vsculpt/core/EvalField.h"
+#include "vsculpt/core/Polygonizer.h"
 #include "vsculpt/core/Sculpture.h"
 
+#include <chrono>
 #include <cstdio>
 #include <ostream>
 #include <string>
@@ -61,6 +63,23 @@ void printSummary(const core::Sculpture& s, std::ostream& out) {
     } else {
         out << "initial shape: empty space\n";
     }
+
+    const core::GridRegion region = core::zoomRegion(cfg, lv, 1, cfg.sphereCenterMm);
+    const auto t0 = std::chrono::steady_clock::now();
+    core::Polygonizer poly(s, region, cfg.polygonizer.bisectionTolerance);
+    const core::PolygonizeStats st = poly.rebuildAll();
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const core::Mesh mesh = poly.mesh();
+    const core::MeshTopology topo = core::analyzeTopology(mesh);
+    out << fmt("zoom 1 grid: %d^3 cells of %.4f mm; tools offered:", region.n, region.spacingMm);
+    for (int k : cfg.zoom.allowedSizes[0]) out << " " << k;
+    out << "\n";
+    out << fmt("mesh: %zu triangles, %zu vertices, %s, Euler characteristic %ld, %zu component(s), "
+               "volume %.1f mm^3; polygonized in %.1f ms (%zu field evaluations)\n",
+               mesh.triangleCount(), mesh.positions.size(),
+               topo.watertight() ? "watertight" : "NOT watertight", topo.eulerCharacteristic,
+               topo.components, core::meshVolume(mesh), ms, st.evaluations);
 }
 
 }  // namespace vsculpt::app

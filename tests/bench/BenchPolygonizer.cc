@@ -185,9 +185,11 @@ void BM_FullPolygonizeOpenVDB(benchmark::State& state) {
 BENCHMARK(BM_FullPolygonizeOpenVDB)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 /// One tool sample end to end: skeleton placement, dirty-block rebuild and publishing the
-/// changed chunks (building their upload meshes). A stroke of 60 samples, 0.25 D apart,
-/// across the model at every size allowed at zoom z; the model is first grown to the
-/// requested skeleton count with extra motifs around it. Reports p50/p99/max per sample.
+/// changed chunks (building their upload meshes). The sculpture is the initial sphere
+/// sculpted with strokes of every size until it holds the requested number of skeletons,
+/// spread so that the skeleton density stays that of a sculpture (the sculpted shell grows
+/// with the count). The measured stroke: 60 samples 0.25 D apart, skimming the surface, at
+/// every size allowed at the zoom level. Reports p50/p99/max per sample.
 Sculpture& modelWithSkeletons(size_t n) {
     static std::map<size_t, std::unique_ptr<Sculpture>> cache;
     auto& slot = cache[n];
@@ -197,20 +199,20 @@ Sculpture& modelWithSkeletons(size_t n) {
     Sculpture& s = *slot;
     std::mt19937 rng(7);
     std::normal_distribution<double> N(0, 1);
-    std::uniform_real_distribution<double> U(0, 1);
+    // ~1000 skeletons per 60 mm x 60 mm patch of surface: the shell radius grows with n.
+    const double radius = std::max(40.0, std::sqrt(double(n) / 1000.0 * 3600.0 / (4 * 3.14159)));
     int i = 0;
     while (s.store().vertexCount() < n) {
         const int level = 1 + i % 7;
         const ToolOp op = i % 5 == 4 ? ToolOp::Carve : ToolOp::Add;
-        // Spread over a ball that grows with the count, so density stays sculpture-like.
-        const double reach = 40 + 25 * std::cbrt(double(n) / 1000.0);
-        Vec3 p = glm::normalize(Vec3(N(rng), N(rng), N(rng))) * (reach * std::cbrt(U(rng)));
-        Vec3 dir = glm::normalize(Vec3(N(rng), N(rng), N(rng)));
+        Vec3 p = glm::normalize(Vec3(N(rng), N(rng), N(rng))) * radius;
+        Vec3 dir = glm::normalize(glm::cross(p, Vec3(N(rng), N(rng), N(rng))));
         StrokeBuilder stroke(s, op, level);
         const double step = 0.3 * s.levels().level(level).diameterMm;
         for (int k = 0; k < 25; ++k) {
             stroke.addSample(p);
             p += dir * step;
+            p = glm::normalize(p) * radius;
             dir = glm::normalize(dir + 0.2 * Vec3(N(rng), N(rng), N(rng)));
         }
         ++i;
@@ -227,18 +229,19 @@ void BM_EditLatency(benchmark::State& state) {
         state.SkipWithError("size not allowed at this zoom");
         return;
     }
-    const Vec3 focus(0, 0, 40);
+    // The surface straight above the centre: the first point outside going up.
+    FieldProbe probe(s);
+    Vec3 focus(0, 0, 0);
+    while (probe.value(focus) > 0 && focus.z < 1e4) focus.z += 0.25;
     const GridRegion region = zoomRegion(s.config(), s.levels(), zoom, focus);
     Polygonizer poly(s, region, s.config().polygonizer.bisectionTolerance);
     poly.rebuildAll();
     const ToolLevel& l = s.levels().level(level);
     std::vector<Vec3> path;
-    const double half = 0.25 * region.n * region.spacingMm;
-    for (int i = 0; i < 60; ++i) {
-        const double t = double(i) / 59;
-        path.push_back(focus + Vec3(-half + 2 * half * t, 0.3 * half * std::sin(6 * t), 0));
-    }
-    std::vector<double> ms;
+    for (int i = 0; i < 60; ++i)
+        path.push_back(focus + Vec3((i - 30) * 0.25 * l.diameterMm, 0, 0.25 * l.diameterMm));
+    std::vector<double> ms, updateMs, publishMs;
+    size_t evaluations = 0, blocks = 0;
     for (auto _ : state) {
         std::vector<SkeletonChange> changes;
         {
@@ -247,13 +250,17 @@ void BM_EditLatency(benchmark::State& state) {
                 const auto t0 = std::chrono::steady_clock::now();
                 const EditResult r = stroke.addSample(p);
                 const PolygonizeStats st = poly.update(r.changedRegion);
+                const auto t1 = std::chrono::steady_clock::now();
                 size_t uploaded = 0;
                 for (const auto& c : st.changedChunks)
                     uploaded += poly.chunkMesh(c[0], c[1], c[2]).indices.size();
                 benchmark::DoNotOptimize(uploaded);
-                ms.push_back(std::chrono::duration<double, std::milli>(
-                                 std::chrono::steady_clock::now() - t0)
-                                 .count());
+                const auto t2 = std::chrono::steady_clock::now();
+                ms.push_back(std::chrono::duration<double, std::milli>(t2 - t0).count());
+                updateMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+                publishMs.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
+                evaluations += st.evaluations;
+                blocks += st.blocksConsidered;
             }
             changes = stroke.takeChanges();
         }
@@ -261,14 +268,18 @@ void BM_EditLatency(benchmark::State& state) {
         poly.update(revertChanges(s, changes));
         state.ResumeTiming();
     }
-    std::sort(ms.begin(), ms.end());
-    auto pct = [&](double q) { return ms[std::min(ms.size() - 1, size_t(q * (ms.size() - 1) + 0.5))]; };
-    state.counters["p50_ms"] = pct(0.5);
-    state.counters["p99_ms"] = pct(0.99);
-    state.counters["max_ms"] = ms.back();
-    state.counters["samples"] = double(ms.size());
+    auto pct = [](std::vector<double> v, double q) {
+        std::sort(v.begin(), v.end());
+        return v[std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5))];
+    };
+    state.counters["p50_ms"] = pct(ms, 0.5);
+    state.counters["p99_ms"] = pct(ms, 0.99);
+    state.counters["max_ms"] = pct(ms, 1.0);
+    state.counters["place_poly_p50_ms"] = pct(updateMs, 0.5);
+    state.counters["publish_p50_ms"] = pct(publishMs, 0.5);
+    state.counters["evals_per_sample"] = double(evaluations) / double(ms.size());
+    state.counters["blocks_per_sample"] = double(blocks) / double(ms.size());
     state.counters["skeletons"] = double(s.counts().total());
-    (void)l;
 }
 BENCHMARK(BM_EditLatency)
     ->ArgNames({"skeletons", "zoom", "level"})

@@ -50,7 +50,7 @@ struct ZoomConfig {
 
 struct PolygonizerConfig {
     int gridN = 128;                   ///< N: cells per axis of the region on show (thesis: N^3)
-    double bisectionTolerance = 1.0 / 64;  ///< edge-root bracket, as a fraction of the spacing
+    double bisectionTolerance = 0.125;  ///< edge-root bracket, as a fraction of the spacing
 };
 
 struct SculptConfig {

@@ -73,13 +73,15 @@ void printSummary(const core::Sculpture& s, std::ostream& out) {
     const core::Mesh mesh = poly.mesh();
     const core::MeshTopology topo = core::analyzeTopology(mesh);
     out << fmt("zoom 1 grid: %d^3 cells of %.4f mm; tools offered:", region.n, region.spacingMm);
-    for (int k : cfg.zoom.allowedSizes[0]) out << " " << k;
+    for (int k : cfg.zoom.allowedSizes[0])
+        out << " " << k;
     out << "\n";
-    out << fmt("mesh: %zu triangles, %zu vertices, %s, Euler characteristic %ld, %zu component(s), "
-               "volume %.1f mm^3; polygonized in %.1f ms (%zu field evaluations)\n",
-               mesh.triangleCount(), mesh.positions.size(),
-               topo.watertight() ? "watertight" : "NOT watertight", topo.eulerCharacteristic,
-               topo.components, core::meshVolume(mesh), ms, st.evaluations);
+    out << fmt(
+        "mesh: %zu triangles, %zu vertices, %s, Euler characteristic %ld, %zu component(s), "
+        "volume %.1f mm^3; polygonized in %.1f ms (%zu field evaluations)\n",
+        mesh.triangleCount(), mesh.positions.size(),
+        topo.watertight() ? "watertight" : "NOT watertight", topo.eulerCharacteristic,
+        topo.components, core::meshVolume(mesh), ms, st.evaluations);
 }
 
 }  // namespace vsculpt::app

@@ -118,9 +118,11 @@ EditResult StrokeBuilder::addSample(const Vec3& p) {
         mDeltas[sv.coord] += after.value_or(0.0f) - current.value_or(0.0f);
         mChanges.push_back(SkeletonChange{mLevel, sv.coord, current, after});
         changed.expand(pos);
+        result.changedPoints.push_back(pos);
         ++result.changedVertices;
     }
     result.changedRegion = changed.padded(tl.supportMm);
+    result.supportMm = tl.supportMm;
     return result;
 }
 

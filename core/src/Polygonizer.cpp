@@ -283,6 +283,40 @@ PolygonizeStats Polygonizer::update(const Aabb& changed, bool threaded) {
     return rebuild(blocks, threaded, false);
 }
 
+PolygonizeStats Polygonizer::update(std::span<const Vec3> points, double radius, bool threaded) {
+    if (points.empty()) return {};
+    const Aabb box = mRegion.box();
+    const double blockSize = kBlockCells * mRegion.spacingMm;
+    const double r2 = radius * radius;
+    std::vector<char> marked(mBlocks.size(), 0);
+    std::vector<std::array<int, 3>> blocks;
+    for (const Vec3& p : points) {
+        std::array<int, 3> lo{}, hi{};
+        bool outside = false;
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::max(0, int(std::floor((p[a] - radius - box.min[a]) / blockSize)) - 1);
+            hi[a] = std::min(mBlocksPerAxis - 1,
+                             int(std::floor((p[a] + radius - box.min[a]) / blockSize)) + 1);
+            outside |= lo[a] > hi[a];
+        }
+        if (outside) continue;
+        for (int x = lo[0]; x <= hi[0]; ++x)
+            for (int y = lo[1]; y <= hi[1]; ++y)
+                for (int z = lo[2]; z <= hi[2]; ++z) {
+                    const size_t idx = blockIndex(x, y, z);
+                    if (marked[idx]) continue;
+                    // The closed block box against the open ball where f can have changed.
+                    const Aabb b = blockBox(x, y, z, kBlockCells);
+                    const Vec3 d = p - glm::clamp(p, b.min, b.max);
+                    if (glm::dot(d, d) >= r2) continue;
+                    marked[idx] = 1;
+                    blocks.push_back({x, y, z});
+                }
+    }
+    std::sort(blocks.begin(), blocks.end());
+    return rebuild(blocks, threaded, false);
+}
+
 Mesh Polygonizer::mesh() const {
     Mesh m;
     std::unordered_map<uint64_t, uint32_t> index;
@@ -316,9 +350,20 @@ uint64_t Polygonizer::chunkVersion(int cx, int cy, int cz) const {
 }
 
 Mesh Polygonizer::chunkMesh(int cx, int cy, int cz) const {
-    Mesh m;
-    std::unordered_map<uint64_t, uint32_t> index;
     const int per = kChunkCells / kBlockCells;
+    size_t vertices = 0, triangles = 0;
+    for (int x = cx * per; x < (cx + 1) * per; ++x)
+        for (int y = cy * per; y < (cy + 1) * per; ++y)
+            for (int z = cz * per; z < (cz + 1) * per; ++z) {
+                vertices += mBlocks[blockIndex(x, y, z)].vertices.size();
+                triangles += mBlocks[blockIndex(x, y, z)].triangles.size();
+            }
+    Mesh m;
+    m.positions.reserve(vertices);
+    m.normals.reserve(vertices);
+    m.indices.reserve(3 * triangles);
+    std::unordered_map<uint64_t, uint32_t> index;
+    index.reserve(vertices);
     for (int x = cx * per; x < (cx + 1) * per; ++x)
         for (int y = cy * per; y < (cy + 1) * per; ++y)
             for (int z = cz * per; z < (cz + 1) * per; ++z) {
@@ -330,7 +375,7 @@ Mesh Polygonizer::chunkMesh(int cx, int cy, int cz) const {
                     }
                 for (const auto& t : b.triangles)
                     for (uint64_t k : t)
-                        m.indices.push_back(index.at(k));
+                        m.indices.push_back(index.find(k)->second);
             }
     return m;
 }

@@ -89,9 +89,9 @@ void BM_FieldAtPolygonizerBlocks(benchmark::State& state) {
     for (int x = 0; x < nb; ++x)
         for (int y = 0; y < nb; ++y)
             for (int z = 0; z < nb; ++z) {
-                const Vec3 lo = region.vertexPos(region.originCell[0] + 4 * x,
-                                                 region.originCell[1] + 4 * y,
-                                                 region.originCell[2] + 4 * z);
+                const Vec3 lo =
+                    region.vertexPos(region.originCell[0] + 4 * x, region.originCell[1] + 4 * y,
+                                     region.originCell[2] + 4 * z);
                 const LocalField f(s, Aabb{lo, lo + Vec3(4 * region.spacingMm)});
                 if (f.bounds().mayContainSurface()) blocks.push_back({x, y, z});
             }
@@ -99,13 +99,15 @@ void BM_FieldAtPolygonizerBlocks(benchmark::State& state) {
     double sink = 0;
     for (auto _ : state) {
         for (const auto& b : blocks) {
-            const int64_t gx = region.originCell[0] + 4 * b[0], gy = region.originCell[1] + 4 * b[1],
+            const int64_t gx = region.originCell[0] + 4 * b[0],
+                          gy = region.originCell[1] + 4 * b[1],
                           gz = region.originCell[2] + 4 * b[2];
             const Vec3 lo = region.vertexPos(gx, gy, gz);
             const LocalField f(s, Aabb{lo, lo + Vec3(4 * region.spacingMm)});
             for (int i = 0; i < 5; ++i)
                 for (int j = 0; j < 5; ++j)
-                    for (int k = 0; k < 5; ++k) sink += f.value(region.vertexPos(gx + i, gy + j, gz + k));
+                    for (int k = 0; k < 5; ++k)
+                        sink += f.value(region.vertexPos(gx + i, gy + j, gz + k));
             evals += 125;
         }
     }
@@ -151,7 +153,8 @@ void BM_FullPolygonizeOpenVDB(benchmark::State& state) {
             for (int i2 = 0; i2 < 5; ++i2)
                 for (int j = 0; j < 5; ++j)
                     for (int k = 0; k < 5; ++k)  // OpenVDB level sets are negative inside
-                        b.v[n++] = float(-f.value(region.vertexPos(b.g[0] + i2, b.g[1] + j, b.g[2] + k)));
+                        b.v[n++] =
+                            float(-f.value(region.vertexPos(b.g[0] + i2, b.g[1] + j, b.g[2] + k)));
         });
         openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(float(s.levels().iso()));
         grid->setTransform(openvdb::math::Transform::createLinearTransform(region.spacingMm));
@@ -166,7 +169,8 @@ void BM_FullPolygonizeOpenVDB(benchmark::State& state) {
             int n = 0;
             for (int i = 0; i < 5; ++i)
                 for (int j = 0; j < 5; ++j)
-                    for (int k = 0; k < 5; ++k) acc.setValueOn(lo.offsetBy(i, j, k), b.v[n++]);
+                    for (int k = 0; k < 5; ++k)
+                        acc.setValueOn(lo.offsetBy(i, j, k), b.v[n++]);
         }
         const auto t1 = std::chrono::steady_clock::now();
         std::vector<openvdb::Vec3s> points;
@@ -232,7 +236,8 @@ void BM_EditLatency(benchmark::State& state) {
     // The surface straight above the centre: the first point outside going up.
     FieldProbe probe(s);
     Vec3 focus(0, 0, 0);
-    while (probe.value(focus) > 0 && focus.z < 1e4) focus.z += 0.25;
+    while (probe.value(focus) > 0 && focus.z < 1e4)
+        focus.z += 0.25;
     const GridRegion region = zoomRegion(s.config(), s.levels(), zoom, focus);
     Polygonizer poly(s, region, s.config().polygonizer.bisectionTolerance);
     poly.rebuildAll();
@@ -249,7 +254,7 @@ void BM_EditLatency(benchmark::State& state) {
             for (const Vec3& p : path) {
                 const auto t0 = std::chrono::steady_clock::now();
                 const EditResult r = stroke.addSample(p);
-                const PolygonizeStats st = poly.update(r.changedRegion);
+                const PolygonizeStats st = poly.update(r.changedPoints, r.supportMm);
                 const auto t1 = std::chrono::steady_clock::now();
                 size_t uploaded = 0;
                 for (const auto& c : st.changedChunks)

@@ -108,15 +108,18 @@ TEST(Config, BadValuesNameTheKeyAndReason) {
          "initial_sphere.center_mm: expected [x, y, z]"},
         {R"([1, 2])", "top level: expected an object"},
         {R"({"zoom": {"levels": 7}})", "zoom.levels: vsculpt has exactly 5 zoom levels"},
-        {R"({"zoom": {"allowed_sizes": [[7], [6], [5], [4]]}})", "zoom.allowed_sizes: expected 5 lists"},
+        {R"({"zoom": {"allowed_sizes": [[7], [6], [5], [4]]}})",
+         "zoom.allowed_sizes: expected 5 lists"},
         {R"({"zoom": {"allowed_sizes": [[7], [6], [5], [4], [9]]}})",
          "zoom.allowed_sizes[4]: tool levels are integers 1..7"},
         {R"({"zoom": {"allowed_sizes": [[7], [6], [5, 5], [4], [3]]}})",
          "zoom.allowed_sizes[2]: level 5 listed twice"},
-        {R"({"zoom": {"base_spacing_over_d6": 0}})", "zoom.base_spacing_over_d6: must be in (0, 2]"},
+        {R"({"zoom": {"base_spacing_over_d6": 0}})",
+         "zoom.base_spacing_over_d6: must be in (0, 2]"},
         {R"({"polygonizer": {"grid_n": 100}})", "polygonizer.grid_n: must be a multiple of 16"},
         {R"({"polygonizer": {"grid_n": 1.5}})", "polygonizer.grid_n: expected an integer"},
-        {R"({"polygonizer": {"bisection_tolerance": 0.9}})", "polygonizer.bisection_tolerance: must be in"},
+        {R"({"polygonizer": {"bisection_tolerance": 0.9}})",
+         "polygonizer.bisection_tolerance: must be in"},
     };
     for (const Bad& b : cases) {
         const std::string e = errorOf(b.json);

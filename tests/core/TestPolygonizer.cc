@@ -186,8 +186,14 @@ TEST_P(PartialEqualsFull, AfterRandomStrokes) {
         const ToolOp op = stroke % 3 == 2 ? ToolOp::Carve : ToolOp::Add;
         StrokeBuilder builder(s, op, level);
         const Vec3 a = c + Vec3(U(rng), U(rng), U(rng)), b = c + Vec3(U(rng), U(rng), U(rng));
-        for (const Vec3& p : linePath(a, b, 0.4 * s.levels().level(level).diameterMm))
-            poly.update(builder.addSample(p).changedRegion);
+        for (const Vec3& p : linePath(a, b, 0.4 * s.levels().level(level).diameterMm)) {
+            const EditResult r = builder.addSample(p);
+            // Alternate the box form and the tighter point form of the update.
+            if (stroke % 2)
+                poly.update(r.changedRegion);
+            else
+                poly.update(r.changedPoints, r.supportMm);
+        }
         Polygonizer full(s, region, cfg.polygonizer.bisectionTolerance);
         full.rebuildAll();
         const Mesh inc = poly.mesh(), ref = full.mesh();
@@ -234,6 +240,48 @@ TEST(Polygonizer, CarvingThroughSplitsIntoPiecesAndStaysExact) {
     full.rebuildAll();
     EXPECT_EQ(canonicalMeshHash(inc), canonicalMeshHash(full.mesh()))
         << firstMeshDifference(inc, full.mesh());
+}
+
+TEST(Polygonizer, ChunksTogetherAreTheMeshAndVersionsTrackChanges) {
+    SculptConfig cfg = emptyConfig(PlacementMode::Free);
+    cfg.sphereRadiusMm = 20;
+    Sculpture s(cfg);
+    Polygonizer poly(s, regionAround(Vec3(0), 1.0, 64), 1e-3);
+    poly.rebuildAll();
+    const int c = poly.chunksPerAxis();
+    auto gather = [&] {
+        Mesh all;
+        for (int x = 0; x < c; ++x)
+            for (int y = 0; y < c; ++y)
+                for (int z = 0; z < c; ++z) {
+                    const Mesh m = poly.chunkMesh(x, y, z);
+                    const uint32_t base = uint32_t(all.positions.size());
+                    all.positions.insert(all.positions.end(), m.positions.begin(),
+                                         m.positions.end());
+                    for (uint32_t i : m.indices)
+                        all.indices.push_back(base + i);
+                }
+        return all;
+    };
+    EXPECT_EQ(canonicalMeshHash(gather()), canonicalMeshHash(poly.mesh()));
+    std::vector<uint64_t> before;
+    for (int i = 0; i < c * c * c; ++i)
+        before.push_back(poly.chunkVersion(i / (c * c), i / c % c, i % c));
+    StrokeBuilder stroke(s, ToolOp::Add, 2);
+    const EditResult r = stroke.addSample(Vec3(0, 0, 20));
+    const PolygonizeStats st = poly.update(r.changedPoints, r.supportMm);
+    ASSERT_GT(st.changedChunks.size(), 0u);
+    size_t bumped = 0;
+    for (int i = 0; i < c * c * c; ++i) {
+        const int x = i / (c * c), y = i / c % c, z = i % c;
+        const bool listed = std::find(st.changedChunks.begin(), st.changedChunks.end(),
+                                      std::array<int, 3>{x, y, z}) != st.changedChunks.end();
+        EXPECT_EQ(poly.chunkVersion(x, y, z) != before[i], listed);
+        bumped += listed;
+    }
+    EXPECT_EQ(bumped, st.chunksChanged);
+    EXPECT_LT(bumped, size_t(c * c * c) / 4);  // a local edit touches few chunks
+    EXPECT_EQ(canonicalMeshHash(gather()), canonicalMeshHash(poly.mesh()));
 }
 
 TEST(Polygonizer, SameMeshAtAnyThreadCount) {

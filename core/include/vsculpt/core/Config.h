@@ -49,7 +49,7 @@ struct ZoomConfig {
 };
 
 struct PolygonizerConfig {
-    int gridN = 128;                   ///< N: cells per axis of the region on show (thesis: N^3)
+    int gridN = 128;                    ///< N: cells per axis of the region on show (thesis: N^3)
     double bisectionTolerance = 0.125;  ///< edge-root bracket, as a fraction of the spacing
 };
 

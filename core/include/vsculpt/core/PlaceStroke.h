@@ -36,6 +36,9 @@ struct EditResult {
     /// Object-space box outside which f did not change (changed vertices padded by R_k).
     Aabb changedRegion;
     int changedVertices = 0;
+    /// Tighter: f changed only within supportMm of these lattice vertices (object space).
+    std::vector<Vec3> changedPoints;
+    double supportMm = 0;
 };
 
 /// An in-progress stroke on one sculpture. Edits the sculpture as samples arrive.

@@ -22,6 +22,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,10 @@ class Polygonizer {
     /// Rebuilds the blocks whose cells touch `changedRegion` (object space, e.g. the union
     /// of EditResult::changedRegion since the last call).
     PolygonizeStats update(const Aabb& changedRegion, bool threaded = true);
+    /// Tighter form: f changed only within `radius` of the given points (EditResult's
+    /// changedPoints and supportMm), so only blocks within that distance are rebuilt.
+    PolygonizeStats update(std::span<const Vec3> changedPoints, double radius,
+                           bool threaded = true);
 
     const GridRegion& region() const { return mRegion; }
 

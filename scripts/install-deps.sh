@@ -9,6 +9,9 @@ packages=(
   libopenvdb-dev libboost-iostreams-dev libtbb-dev libglm-dev
   # configs, CLI, logging
   nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
+  # exports (glTF writer), journal checksums, and the third-party loader the tests read
+  # exports back with
+  libtinygltf-dev zlib1g-dev libassimp-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-format

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/app/Cli.h"
 
+#include "vsculpt/app/Play.h"
 #include "vsculpt/app/Summary.h"
 #include "vsculpt/core/Config.h"
 #include "vsculpt/core/Sculpture.h"
@@ -17,12 +18,35 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     CLI::App cli{
         "vsculpt - immersive virtual-sculpting modeler.\n"
         "Without a subcommand it builds the initial sculpture from the config and prints a\n"
-        "summary (tool levels, calibration, initial shape). The sculpting window, playback\n"
-        "scripts and device input are not built yet: see README.md, 'What works'."};
+        "summary (tool levels, calibration, initial shape and its mesh). `vsculpt play` runs a\n"
+        "playback script headless (docs/playback.md). The sculpting window and device input\n"
+        "are not built yet: see README.md, 'What works'."};
     cli.set_version_flag("--version", "vsculpt 0.1.0");
     std::string configPath = core::defaultConfigPath().string();
     cli.add_option("--config", configPath, "Config file (JSON with comments; docs/config.md)")
         ->capture_default_str();
+
+    PlayOptions play;
+    CLI::App* playCmd = cli.add_subcommand(
+        "play", "Run a playback script headless: sculpt, export, report (docs/playback.md)");
+    playCmd->add_option("SCRIPT", play.script, "Playback script")->required();
+    playCmd->add_option("--out", play.outputs,
+                        "Export the final sculpture; repeatable; format from the extension: "
+                        ".obj .stl .ply .glb .dxf .vdb");
+    playCmd->add_option("--stats", play.statsPath, "Write statistics as JSON to PATH (- = stdout)");
+    playCmd->add_flag("--check", play.check,
+                      "After every edit, compare the incremental mesh with a full rebuild");
+    playCmd->add_option("--threads", play.threads, "Worker threads (default: all cores)")
+        ->check(CLI::Range(1, 256));
+    playCmd->add_option("--config", play.configPath, "Config file for a new session or project");
+    playCmd->add_option("--project", play.projectDir,
+                        "Project folder: opened (and recovered) if it exists, created otherwise; "
+                        "every edit is journaled");
+    playCmd
+        ->add_option("--export-spacing", play.exportSpacingMm,
+                     "Grid spacing in mm for exports and statistics (default: zoom 1's)")
+        ->check(CLI::PositiveNumber);
+    playCmd->add_flag("!--no-progress", play.progress, "No progress bar");
 
     try {
         cli.parse(argc, argv);
@@ -30,6 +54,8 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         // CLI11 prints help/version to out and usage errors to err with its own exit codes.
         return cli.exit(e, out, err) == 0 ? 0 : 2;
     }
+
+    if (*playCmd) return runPlay(play, out, err);
 
     try {
         const core::SculptConfig cfg = core::loadConfig(configPath);

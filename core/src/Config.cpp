@@ -224,6 +224,35 @@ SculptConfig loadConfig(const std::filesystem::path& path) {
     return parseConfig(text.str(), path.string());
 }
 
+std::string configToJson(const SculptConfig& c) {
+    json j;
+    j["tools"] = {{"levels", kLevelCount},
+                  {"d4_mm", c.d4Mm},
+                  {"growth", c.growth},
+                  {"lattice_spacing_over_diameter", c.spacingOverDiameter}};
+    j["field"] = {{"iso", c.iso},
+                  {"falloff",
+                   {{"f0", c.falloff.f0},
+                    {"control_u", c.falloff.controlU},
+                    {"control_value", c.falloff.controlValue},
+                    {"control_slope", c.falloff.controlSlope}}}};
+    if (c.manualSupport)
+        j["field"]["support"] = {{"r4_mm", c.manualSupport->r4Mm},
+                                 {"scale", c.manualSupport->scale}};
+    else
+        j["field"]["support"] = "calibrate";
+    j["placement"] = {{"mode", toString(c.placement)}};
+    j["initial_sphere"] = {
+        {"radius_mm", c.sphereRadiusMm},
+        {"center_mm", {c.sphereCenterMm.x, c.sphereCenterMm.y, c.sphereCenterMm.z}}};
+    j["zoom"] = {{"levels", kZoomLevels},
+                 {"base_spacing_over_d6", c.zoom.baseSpacingOverD6},
+                 {"allowed_sizes", c.zoom.allowedSizes}};
+    j["polygonizer"] = {{"grid_n", c.polygonizer.gridN},
+                        {"bisection_tolerance", c.polygonizer.bisectionTolerance}};
+    return j.dump(2);
+}
+
 void validateConfig(const SculptConfig& c) {
     auto fail = [&](const std::string& key, const std::string& why) {
         throw ConfigError(c.source + ": " + key + ": " + why);

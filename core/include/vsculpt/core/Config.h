@@ -92,6 +92,10 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
 /// Reads and parses a file; a missing or unreadable file is a ConfigError too.
 SculptConfig loadConfig(const std::filesystem::path& path);
 
+/// The config as JSON text that parseConfig() reads back to the same values (projects store
+/// it; stats report it).
+std::string configToJson(const SculptConfig& cfg);
+
 /// Throws ConfigError("<source>: <key>: <reason>") for the first invalid value.
 void validateConfig(const SculptConfig& cfg);
 

@@ -1,0 +1,28 @@
+// SPDX-License-Identifier: MIT
+/// @file Play.h
+/// @brief `vsculpt play SCRIPT`: a headless sculpting session driven by a playback script.
+#pragma once
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace vsculpt::app {
+
+struct PlayOptions {
+    std::string script;
+    std::vector<std::string> outputs;  ///< export paths; the format follows the extension
+    std::string statsPath;             ///< JSON statistics ("" = none, "-" = stdout)
+    bool check = false;                ///< incremental-vs-full mesh check after every edit
+    int threads = 0;                   ///< 0 = all cores
+    std::string configPath;            ///< "" = configs/sculpt.json
+    std::string projectDir;            ///< "" = no project
+    double exportSpacingMm = 0;        ///< grid spacing of exports and stats (0 = zoom 1's)
+    bool progress = true;              ///< progress bar on a terminal
+};
+
+/// Returns the exit code: 0 success, 1 runtime failure (check mismatch, export failure),
+/// 2 bad input (script, config, arguments).
+int runPlay(const PlayOptions& options, std::ostream& out, std::ostream& err);
+
+}  // namespace vsculpt::app

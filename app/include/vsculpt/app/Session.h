@@ -1,0 +1,101 @@
+// SPDX-License-Identifier: MIT
+/// @file Session.h
+/// @brief A sculpting session: the sculpture, its polygonized view at the current zoom,
+/// the tool state, undo history and (optionally) the crash-safe project it writes to.
+/// Driven by playback scripts now, by the window and devices later.
+#pragma once
+
+#include "vsculpt/app/Script.h"
+#include "vsculpt/core/Config.h"
+#include "vsculpt/core/History.h"
+#include "vsculpt/core/Mesh.h"
+#include "vsculpt/core/Polygonizer.h"
+#include "vsculpt/core/Project.h"
+#include "vsculpt/core/Sculpture.h"
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace vsculpt::app {
+
+/// A refused operation (size not offered at this zoom, stroke with the select tool, ...).
+class SessionError : public std::runtime_error {
+  public:
+    using std::runtime_error::runtime_error;
+};
+
+class Session {
+  public:
+    /// A session without a project (nothing is written to disk).
+    explicit Session(const core::SculptConfig& cfg);
+    /// Opens the project in `dir`, or creates it with `cfgForNew` when the folder holds none.
+    /// Recovers the journal tail; what was dropped is in recoveryWarning().
+    static std::unique_ptr<Session> openProject(const std::filesystem::path& dir,
+                                                const core::SculptConfig& cfgForNew);
+    ~Session();
+
+    // Tool state ------------------------------------------------------------------------
+    void setTool(ToolKind tool) { mTool = tool; }
+    ToolKind tool() const { return mTool; }
+    /// Throws SessionError when level is not offered at the current zoom.
+    void setSize(int level);
+    int size() const { return mSize; }
+    /// Zoom level z (1..5) centred on an object-space point (ignored at zoom 1). If the
+    /// current size is not offered at the new zoom, the nearest offered size is taken.
+    void setZoom(int zoom, const core::Vec3& center);
+    int zoom() const { return mZoom; }
+    void setObjectPose(const core::RigidTransform& worldFromObject);
+
+    // Edits -----------------------------------------------------------------------------
+    /// One stroke (one undo step) through the given points, in world space when `world`.
+    /// Every sample updates the mesh; the stroke is journaled (and flushed) at its end.
+    void stroke(const std::vector<core::Vec3>& points, bool world);
+    bool undo();
+    bool redo();
+    /// Writes a snapshot and empties the journal (projects only; no-op otherwise).
+    void save();
+
+    /// `--check`: empty when the incremental mesh equals a full rebuild.
+    std::string verifyMesh() const;
+
+    // Results ---------------------------------------------------------------------------
+    const core::Sculpture& sculpture() const { return *mSculpture; }
+    const core::History& history() const { return mHistory; }
+    const core::Polygonizer& view() const { return *mView; }
+    /// Wall time of each tool sample (placement + mesh update), ms.
+    const std::vector<double>& sampleMs() const { return mSampleMs; }
+    const std::string& recoveryWarning() const { return mRecoveryWarning; }
+    size_t recoveredEdits() const { return mRecovered; }
+
+    /// The whole sculpture polygonized at `spacingMm` (0: the zoom-1 spacing), for exports
+    /// and statistics. Throws SessionError if the grid would exceed 1024 cells per axis.
+    core::Mesh wholeMesh(double spacingMm = 0) const;
+
+  private:
+    Session(const core::SculptConfig& cfg, bool);
+    void rebuildView();
+    void journal(const core::JournalRecord& r);
+    void applyJournalRecord(const core::JournalRecord& r);
+
+    core::SculptConfig mConfig;
+    std::unique_ptr<core::Sculpture> mSculpture;
+    std::unique_ptr<core::Polygonizer> mView;
+    core::History mHistory;
+    ToolKind mTool = ToolKind::Add;
+    int mSize = 6;
+    int mZoom = 1;
+    core::Vec3 mZoomCenter{0.0};
+    core::RigidTransform mWorldFromObject;
+    std::vector<double> mSampleMs;
+
+    std::optional<std::filesystem::path> mProjectDir;
+    std::unique_ptr<core::JournalWriter> mJournal;
+    uint64_t mSequence = 0;
+    std::string mRecoveryWarning;
+    size_t mRecovered = 0;
+};
+
+}  // namespace vsculpt::app

@@ -1,0 +1,252 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/app/Play.h"
+
+#include "vsculpt/app/Session.h"
+#include "vsculpt/core/ExportMesh.h"
+
+#include <tbb/global_control.h>
+#include <unistd.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <ostream>
+
+namespace vsculpt::app {
+
+using namespace vsculpt::core;
+
+namespace {
+
+std::string hex(uint64_t v) {
+    char b[17];
+    std::snprintf(b, sizeof b, "%016llx", static_cast<unsigned long long>(v));
+    return b;
+}
+
+double percentile(std::vector<double> v, double q) {
+    if (v.empty()) return 0;
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5))];
+}
+
+/// A one-line progress bar on stderr, redrawn at most 10 times a second.
+class Progress {
+  public:
+    Progress(std::ostream& err, bool enabled, size_t total)
+        : mErr(err), mEnabled(enabled && total > 0), mTotal(total) {}
+    void update(size_t done, int line) {
+        if (!mEnabled) return;
+        const auto now = std::chrono::steady_clock::now();
+        if (done < mTotal && now - mLast < std::chrono::milliseconds(100)) return;
+        mLast = now;
+        const int width = 30, filled = int(double(done) / double(mTotal) * width);
+        mErr << "\r[" << std::string(size_t(filled), '#')
+             << std::string(size_t(width - filled), ' ') << "] " << (done * 100 / mTotal)
+             << "% (line " << line << ")" << std::flush;
+        mDrawn = true;
+    }
+    ~Progress() {
+        if (mDrawn) mErr << "\r" << std::string(60, ' ') << "\r" << std::flush;
+    }
+
+  private:
+    std::ostream& mErr;
+    bool mEnabled, mDrawn = false;
+    size_t mTotal;
+    std::chrono::steady_clock::time_point mLast{};
+};
+
+nlohmann::json statsJson(const Session& s, const Mesh& mesh, const PlayOptions& o,
+                         double exportSpacing) {
+    const Sculpture& sc = s.sculpture();
+    const SkeletonCounts counts = sc.counts();
+    const MeshTopology topo = analyzeTopology(mesh);
+    const Aabb box = meshBounds(mesh);
+    nlohmann::json j;
+    j["script"] = o.script;
+    j["skeletons"] = counts.total();
+    j["skeletons_by_level"] = counts.byLevel;
+    j["point_skeletons"] = counts.point;
+    j["vertices"] = mesh.positions.size();
+    j["triangles"] = mesh.triangleCount();
+    j["watertight"] = topo.watertight();
+    j["euler_characteristic"] = topo.eulerCharacteristic;
+    j["components"] = topo.components;
+    j["volume_mm3"] = meshVolume(mesh);
+    if (!box.empty())
+        j["bbox_mm"] = {{"min", {box.min.x, box.min.y, box.min.z}},
+                        {"max", {box.max.x, box.max.y, box.max.z}}};
+    j["mesh_hash"] = hex(canonicalMeshHash(mesh));
+    const auto& ms = s.sampleMs();
+    j["edit_ms"] = {{"p50", percentile(ms, 0.5)},
+                    {"p99", percentile(ms, 0.99)},
+                    {"max", ms.empty() ? 0.0 : *std::max_element(ms.begin(), ms.end())},
+                    {"samples", ms.size()}};
+    j["undo_steps"] = s.history().done().size();
+    j["redo_steps"] = s.history().undone().size();
+    j["history_bytes"] = s.history().memoryBytes();
+    j["recovered_edits"] = s.recoveredEdits();
+    if (!s.recoveryWarning().empty()) j["recovery_warning"] = s.recoveryWarning();
+    nlohmann::json levels = nlohmann::json::array();
+    for (int k = 1; k <= kLevelCount; ++k) {
+        const ToolLevel& l = sc.levels().level(k);
+        levels.push_back({{"level", k},
+                          {"diameter_mm", l.diameterMm},
+                          {"lattice_spacing_mm", l.spacingMm},
+                          {"support_mm", l.supportMm}});
+    }
+    j["settings"] = {{"placement_mode", toString(sc.config().placement)},
+                     {"grid_n", sc.config().polygonizer.gridN},
+                     {"zoom", s.zoom()},
+                     {"view_spacing_mm", s.view().region().spacingMm},
+                     {"mesh_spacing_mm", exportSpacing},
+                     {"levels", levels},
+                     {"config", nlohmann::json::parse(configToJson(sc.config()))}};
+    return j;
+}
+
+}  // namespace
+
+int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
+    // Bad input first, before any work: script, config, output formats.
+    Script script;
+    SculptConfig cfg;
+    try {
+        script = loadScript(o.script);
+        cfg = loadConfig(o.configPath.empty() ? defaultConfigPath()
+                                              : std::filesystem::path(o.configPath));
+    } catch (const std::exception& e) {
+        err << "vsculpt play: error: " << e.what() << "\n";
+        return 2;
+    }
+    for (const std::string& path : o.outputs) {
+        std::string ext = std::filesystem::path(path).extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(),
+                       [](unsigned char c) { return char(std::tolower(c)); });
+        const auto& known = exportExtensions();
+        if (std::find(known.begin(), known.end(), ext) == known.end()) {
+            err << "vsculpt play: error: --out " << path << ": unknown format '" << ext
+                << "' (use .obj, .stl, .ply, .glb, .dxf or .vdb)\n";
+            return 2;
+        }
+    }
+    std::unique_ptr<tbb::global_control> threads;
+    if (o.threads > 0)
+        threads = std::make_unique<tbb::global_control>(
+            tbb::global_control::max_allowed_parallelism, size_t(o.threads));
+
+    std::unique_ptr<Session> session;
+    try {
+        if (o.projectDir.empty())
+            session = std::make_unique<Session>(cfg);
+        else
+            session = Session::openProject(o.projectDir, cfg);
+    } catch (const std::exception& e) {
+        err << "vsculpt play: error: " << e.what() << "\n";
+        return 2;
+    }
+    if (!session->recoveryWarning().empty())
+        err << "vsculpt play: warning: " << session->recoveryWarning() << "\n";
+    if (session->recoveredEdits() > 0)
+        err << "vsculpt play: recovered " << session->recoveredEdits()
+            << " edit(s) from the project journal\n";
+
+    {
+        Progress progress(err, o.progress && ::isatty(2), script.commands.size());
+        size_t done = 0;
+        bool world = false;
+        for (const ScriptCommand& c : script.commands) {
+            try {
+                using K = ScriptCommand::Kind;
+                bool edited = false;
+                switch (c.kind) {
+                    case K::Tool:
+                        session->setTool(c.tool);
+                        break;
+                    case K::Size:
+                        session->setSize(c.value);
+                        break;
+                    case K::Zoom:
+                        session->setZoom(c.value, c.point);
+                        break;
+                    case K::Object:
+                        session->setObjectPose(c.pose);
+                        break;
+                    case K::Space:
+                        world = c.world;
+                        break;
+                    case K::Stroke:
+                        session->stroke(c.points, world);
+                        edited = true;
+                        break;
+                    case K::Undo:
+                        edited = session->undo();
+                        break;
+                    case K::Redo:
+                        edited = session->redo();
+                        break;
+                    case K::Save:
+                        session->save();
+                        break;
+                }
+                if (o.check && edited) {
+                    const std::string diff = session->verifyMesh();
+                    if (!diff.empty()) {
+                        err << "\nvsculpt play: " << script.source << ":" << c.line
+                            << ": --check failed: " << diff << "\n";
+                        return 1;
+                    }
+                }
+            } catch (const SessionError& e) {
+                err << "\nvsculpt play: error: " << script.source << ":" << c.line << ": "
+                    << e.what() << "\n";
+                return 2;
+            } catch (const std::invalid_argument& e) {
+                err << "\nvsculpt play: error: " << script.source << ":" << c.line << ": "
+                    << e.what() << "\n";
+                return 2;
+            } catch (const std::exception& e) {
+                err << "\nvsculpt play: error: " << script.source << ":" << c.line << ": "
+                    << e.what() << "\n";
+                return 1;
+            }
+            progress.update(++done, c.line);
+        }
+    }
+
+    try {
+        if (!o.projectDir.empty()) session->save();
+        const double spacing = o.exportSpacingMm > 0
+                                   ? o.exportSpacingMm
+                                   : zoomSpacing(cfg, session->sculpture().levels(), 1);
+        const Mesh mesh = session->wholeMesh(spacing);
+        for (const std::string& path : o.outputs) {
+            ExportOptions eo;
+            eo.voxelSizeMm = spacing;
+            exportMesh(mesh, path, eo);
+        }
+        const nlohmann::json stats = statsJson(*session, mesh, o, spacing);
+        if (o.statsPath == "-") {
+            out << stats.dump(2) << "\n";
+        } else if (!o.statsPath.empty()) {
+            std::ofstream f(o.statsPath);
+            f << stats.dump(2) << "\n";
+            if (!f) throw std::runtime_error(o.statsPath + ": cannot write statistics");
+        }
+        out << "vsculpt play: " << script.commands.size() << " command(s), "
+            << stats["skeletons"].get<size_t>() << " skeletons, " << mesh.triangleCount()
+            << " triangles, " << (stats["watertight"].get<bool>() ? "watertight" : "open")
+            << ", mesh hash " << stats["mesh_hash"].get<std::string>() << "\n";
+    } catch (const std::exception& e) {
+        err << "vsculpt play: error: " << e.what() << "\n";
+        return 1;
+    }
+    return 0;
+}
+
+}  // namespace vsculpt::app

@@ -1,0 +1,218 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/app/Session.h"
+
+#include "vsculpt/core/PlaceStroke.h"
+
+#include <chrono>
+#include <cmath>
+
+namespace vsculpt::app {
+
+using namespace vsculpt::core;
+
+Session::Session(const SculptConfig& cfg) : Session(cfg, true) {
+    rebuildView();
+}
+
+Session::Session(const SculptConfig& cfg, bool)
+    : mConfig(cfg), mSculpture(std::make_unique<Sculpture>(cfg)) {
+    mSize = mConfig.zoom.allowedSizes[0].front();
+}
+
+Session::~Session() = default;
+
+std::unique_ptr<Session> Session::openProject(const std::filesystem::path& dir,
+                                              const SculptConfig& cfgForNew) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) throw ProjectError(dir.string() + ": cannot create project folder: " + ec.message());
+    const auto snap = snapshotPath(dir);
+    std::unique_ptr<Session> s;
+    uint64_t lastSeq = 0;
+    if (std::filesystem::exists(snap)) {
+        SnapshotContents c = readSnapshot(snap);
+        SculptConfig cfg;
+        try {
+            cfg = parseConfig(c.configJson, snap.string() + " (stored config)");
+        } catch (const ConfigError& e) {
+            throw ProjectError(e.what());
+        }
+        s.reset(new Session(cfg, true));
+        for (const SkeletonEntry& e : c.skeletons)
+            s->mSculpture->store().set(e.level, e.coord, e.weight);
+        s->mHistory.restore(std::move(c.done), std::move(c.undone));
+        lastSeq = c.lastSequence;
+    } else {
+        s.reset(new Session(cfgForNew, true));
+        // A new project starts with a snapshot, so the config travels with it.
+        writeSnapshot(snap, configToJson(s->mConfig), 0, *s->mSculpture, s->mHistory);
+    }
+    s->mProjectDir = dir;
+    s->mSequence = lastSeq;
+    const JournalContents j = readJournal(journalPath(dir));
+    for (const JournalRecord& r : j.records) {
+        if (r.sequence <= lastSeq) continue;  // already in the snapshot
+        s->applyJournalRecord(r);
+        s->mSequence = r.sequence;
+        ++s->mRecovered;
+    }
+    s->mRecoveryWarning = j.warning;
+    s->mJournal = std::make_unique<JournalWriter>(journalPath(dir), j.validBytes);
+    s->rebuildView();
+    return s;
+}
+
+void Session::applyJournalRecord(const JournalRecord& r) {
+    switch (r.op) {
+        case JournalOp::Stroke: {
+            StrokeRecord rec;
+            rec.op = r.tool;
+            rec.level = r.level;
+            rec.samples = r.samples;
+            applyStroke(*mSculpture, r.tool, r.level, r.samples, &rec.changes);
+            mHistory.push(std::move(rec));
+            break;
+        }
+        case JournalOp::Undo:
+            mHistory.undo(*mSculpture);
+            break;
+        case JournalOp::Redo:
+            mHistory.redo(*mSculpture);
+            break;
+    }
+}
+
+void Session::rebuildView() {
+    const GridRegion region = zoomRegion(mConfig, mSculpture->levels(), mZoom, mZoomCenter);
+    mView =
+        std::make_unique<Polygonizer>(*mSculpture, region, mConfig.polygonizer.bisectionTolerance);
+    mView->rebuildAll();
+}
+
+void Session::setSize(int level) {
+    if (!toolAllowedAtZoom(mConfig, mZoom, level)) {
+        std::string allowed;
+        for (int k : mConfig.zoom.allowedSizes[mZoom - 1])
+            allowed += " " + std::to_string(k);
+        throw SessionError("size " + std::to_string(level) + " is not offered at zoom " +
+                           std::to_string(mZoom) + " (offered:" + allowed + ")");
+    }
+    mSize = level;
+}
+
+void Session::setZoom(int zoom, const Vec3& center) {
+    if (zoom < 1 || zoom > kZoomLevels) throw SessionError("zoom level outside 1..5");
+    mZoom = zoom;
+    mZoomCenter = zoom == 1 ? mConfig.sphereCenterMm : center;
+    if (!toolAllowedAtZoom(mConfig, mZoom, mSize)) {
+        int best = mConfig.zoom.allowedSizes[mZoom - 1].front();
+        for (int k : mConfig.zoom.allowedSizes[mZoom - 1])
+            if (std::abs(k - mSize) < std::abs(best - mSize)) best = k;
+        mSize = best;
+    }
+    rebuildView();
+}
+
+void Session::setObjectPose(const RigidTransform& worldFromObject) {
+    mWorldFromObject = worldFromObject;
+}
+
+void Session::journal(const JournalRecord& r) {
+    if (mJournal) mJournal->append(r);
+}
+
+void Session::stroke(const std::vector<Vec3>& points, bool world) {
+    if (mTool == ToolKind::Select)
+        throw SessionError("stroke needs the add or carve tool (the select tool is active)");
+    const ToolOp op = mTool == ToolKind::Add ? ToolOp::Add : ToolOp::Carve;
+    StrokeRecord rec;
+    rec.op = op;
+    rec.level = mSize;
+    {
+        StrokeBuilder builder(*mSculpture, op, mSize);
+        try {
+            for (const Vec3& p : points) {
+                const Vec3 objectPos = world ? mWorldFromObject.inverse().apply(p) : p;
+                const auto t0 = std::chrono::steady_clock::now();
+                const EditResult r = builder.addSample(objectPos);
+                mView->update(r.changedPoints, r.supportMm);
+                mSampleMs.push_back(
+                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                        .count());
+                rec.samples.push_back(objectPos);
+            }
+        } catch (...) {
+            // A refused sample cancels the whole stroke: no half-applied, unjournaled edit.
+            mView->update(revertChanges(*mSculpture, builder.changes()));
+            throw;
+        }
+        rec.changes = builder.takeChanges();
+    }
+    // The edit is durable before it counts as done.
+    JournalRecord j;
+    j.sequence = ++mSequence;
+    j.op = JournalOp::Stroke;
+    j.tool = op;
+    j.level = mSize;
+    j.samples = rec.samples;
+    journal(j);
+    mHistory.push(std::move(rec));
+}
+
+bool Session::undo() {
+    if (!mHistory.canUndo()) return false;
+    const Aabb box = mHistory.undo(*mSculpture);
+    mView->update(box);
+    JournalRecord j;
+    j.sequence = ++mSequence;
+    j.op = JournalOp::Undo;
+    journal(j);
+    return true;
+}
+
+bool Session::redo() {
+    if (!mHistory.canRedo()) return false;
+    const Aabb box = mHistory.redo(*mSculpture);
+    mView->update(box);
+    JournalRecord j;
+    j.sequence = ++mSequence;
+    j.op = JournalOp::Redo;
+    journal(j);
+    return true;
+}
+
+void Session::save() {
+    if (!mProjectDir) return;
+    writeSnapshot(snapshotPath(*mProjectDir), configToJson(mConfig), mSequence, *mSculpture,
+                  mHistory);
+    mJournal->reset();
+}
+
+std::string Session::verifyMesh() const {
+    return mView->verifyAgainstFullRebuild();
+}
+
+Mesh Session::wholeMesh(double spacing) const {
+    if (spacing <= 0) spacing = zoomSpacing(mConfig, mSculpture->levels(), 1);
+    const Aabb bounds = mSculpture->supportBounds();
+    if (bounds.empty()) return {};
+    GridRegion r;
+    r.spacingMm = spacing;
+    int64_t extent = 0;
+    for (int a = 0; a < 3; ++a) {
+        r.originCell[a] = int64_t(std::floor(bounds.min[a] / spacing)) - 1;
+        extent =
+            std::max(extent, int64_t(std::ceil(bounds.max[a] / spacing)) + 1 - r.originCell[a]);
+    }
+    const int64_t n = (extent + 15) / 16 * 16;
+    if (n > 1024)
+        throw SessionError("the sculpture spans " + std::to_string(extent) + " cells at " +
+                           std::to_string(spacing) +
+                           " mm; at most 1024 per axis: choose a coarser export spacing");
+    r.n = int(n);
+    Polygonizer poly(*mSculpture, r, mConfig.polygonizer.bisectionTolerance);
+    poly.rebuildAll();
+    return poly.mesh();
+}
+
+}  // namespace vsculpt::app

@@ -244,8 +244,8 @@ void writeVdb(const Mesh& m, const std::filesystem::path& p, const ExportOptions
     const auto xform = openvdb::math::Transform::createLinearTransform(o.voxelSizeMm);
     std::vector<openvdb::Vec3s> points;
     std::vector<openvdb::Vec3I> tris;
-    for (const Vec3& v : m.positions)
-        points.push_back(xform->worldToIndex(openvdb::Vec3d(v.x, v.y, v.z)));
+    for (const Vec3& v : m.positions)  // meshToLevelSet takes world-space points
+        points.emplace_back(float(v.x), float(v.y), float(v.z));
     for (size_t t = 0; t < m.triangleCount(); ++t)
         tris.emplace_back(m.indices[3 * t], m.indices[3 * t + 1], m.indices[3 * t + 2]);
     openvdb::FloatGrid::Ptr grid = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(

@@ -69,6 +69,9 @@ class Session {
     const std::vector<double>& sampleMs() const { return mSampleMs; }
     const std::string& recoveryWarning() const { return mRecoveryWarning; }
     size_t recoveredEdits() const { return mRecovered; }
+    /// Edits (strokes, undos, redos) recorded in the project over its life: the sequence
+    /// number of the last one. 0 without a project.
+    uint64_t editSequence() const { return mSequence; }
 
     /// The whole sculpture polygonized at `spacingMm` (0: the zoom-1 spacing), for exports
     /// and statistics. Throws SessionError if the grid would exceed 1024 cells per axis.

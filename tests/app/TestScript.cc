@@ -1,0 +1,97 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/app/Script.h"
+
+#include <gtest/gtest.h>
+
+using namespace vsculpt::app;
+using Kind = ScriptCommand::Kind;
+
+namespace {
+
+TEST(Script, ParsesEveryCommand) {
+    const Script s = parseScript(R"(# a comment line
+tool add
+tool carve   # trailing comment
+tool select
+size 5
+zoom 1
+zoom 3 1.5 -2 30
+object 10 20 30
+object 1 2 3 0.7071068 0 0 0.7071068
+space world
+space object
+stroke 0 0 0  1 2 3
+stroke 0 0 0 \
+       4 5 6 \
+       7 8 9
+undo
+redo
+save
+)",
+                                 "t.vsc");
+    const std::vector<Kind> kinds = {Kind::Tool,  Kind::Tool,  Kind::Tool,   Kind::Size,
+                                     Kind::Zoom,  Kind::Zoom,  Kind::Object, Kind::Object,
+                                     Kind::Space, Kind::Space, Kind::Stroke, Kind::Stroke,
+                                     Kind::Undo,  Kind::Redo,  Kind::Save};
+    ASSERT_EQ(s.commands.size(), kinds.size());
+    for (size_t i = 0; i < kinds.size(); ++i)
+        EXPECT_EQ(s.commands[i].kind, kinds[i]) << i;
+    EXPECT_EQ(s.commands[0].tool, ToolKind::Add);
+    EXPECT_EQ(s.commands[1].tool, ToolKind::Carve);
+    EXPECT_EQ(s.commands[2].tool, ToolKind::Select);
+    EXPECT_EQ(s.commands[3].value, 5);
+    EXPECT_FALSE(s.commands[4].hasPoint);
+    EXPECT_TRUE(s.commands[5].hasPoint);
+    EXPECT_EQ(s.commands[5].point, vsculpt::core::Vec3(1.5, -2, 30));
+    EXPECT_EQ(s.commands[6].pose.translation, vsculpt::core::Vec3(10, 20, 30));
+    EXPECT_NEAR(s.commands[7].pose.rotation.w, 0.7071068, 1e-7);
+    EXPECT_TRUE(s.commands[8].world);
+    EXPECT_FALSE(s.commands[9].world);
+    EXPECT_EQ(s.commands[10].points.size(), 2u);
+    ASSERT_EQ(s.commands[11].points.size(), 3u);  // continued over three lines
+    EXPECT_EQ(s.commands[11].line, 13);           // reported at its first line
+    EXPECT_EQ(s.commands[11].points[2], vsculpt::core::Vec3(7, 8, 9));
+    EXPECT_EQ(s.commands[1].line, 3);
+}
+
+struct Bad {
+    const char* text;
+    const char* expected;
+};
+
+TEST(Script, BadLinesNameTheirLine) {
+    const Bad cases[] = {
+        {"tool add\nstrok 1 2 3\n", "t.vsc:2: unknown command 'strok'"},
+        {"\n\nsize\n", "t.vsc:3: 'size' takes a tool level 1..7 (got 0 argument(s))"},
+        {"size five\n", "t.vsc:1: expected an integer for the tool level, got 'five'"},
+        {"size 9\n", "t.vsc:1: tool level 9 outside 1..7"},
+        {"zoom 6\n", "t.vsc:1: zoom level 6 outside 1..5"},
+        {"zoom 3\n", "t.vsc:1: zoom 3 needs the region centre"},
+        {"zoom 2 1 2\n", "t.vsc:1: 'zoom' takes Z or Z x y z"},
+        {"tool brush\n", "t.vsc:1: unknown tool 'brush'"},
+        {"stroke 1 2\n", "t.vsc:1: 'stroke' takes points x y z"},
+        {"stroke 1 2 x\n", "t.vsc:1: expected a number for a stroke point, got 'x'"},
+        {"stroke 1 2 nan\n", "t.vsc:1: expected a number for a stroke point, got 'nan'"},
+        {"stroke 1 2 1e9\n", "t.vsc:1: a stroke point lies beyond 1e6 mm"},
+        {"object 1 2 3 0 0 0 0\n", "t.vsc:1: the object rotation quaternion has zero length"},
+        {"object 1 2\n", "t.vsc:1: 'object' takes x y z [qw qx qy qz]"},
+        {"undo now\n", "t.vsc:1: 'undo' takes no arguments"},
+        {"space up\n", "t.vsc:1: unknown space 'up'"},
+        {"tool add\nstroke 0 0 0 \\\n", "t.vsc:2: the command continued with '\\' never ends"},
+    };
+    for (const Bad& b : cases) {
+        try {
+            parseScript(b.text, "t.vsc");
+            ADD_FAILURE() << "no error for: " << b.text;
+        } catch (const ScriptError& e) {
+            EXPECT_NE(std::string(e.what()).find(b.expected), std::string::npos)
+                << "got: " << e.what() << "\nwanted: " << b.expected;
+        }
+    }
+}
+
+TEST(Script, MissingFileIsAnError) {
+    EXPECT_THROW(loadScript("/nonexistent/script.vsc"), ScriptError);
+}
+
+}  // namespace

@@ -1,0 +1,206 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/app/Session.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+using namespace vsculpt;
+using namespace vsculpt::app;
+using core::Vec3;
+
+namespace {
+
+core::SculptConfig smallConfig() {
+    core::SculptConfig cfg;
+    cfg.sphereRadiusMm = 30;
+    cfg.polygonizer.gridN = 64;
+    return cfg;
+}
+
+/// A temporary folder removed at the end of the test.
+struct TempDir {
+    std::filesystem::path path;
+    TempDir() {
+        path =
+            std::filesystem::temp_directory_path() / ("vsculpt-test-" + std::to_string(::getpid()) +
+                                                      "-" + std::to_string(std::random_device{}()));
+        std::filesystem::create_directories(path);
+    }
+    ~TempDir() { std::filesystem::remove_all(path); }
+};
+
+uint64_t viewHash(const Session& s) {
+    return core::canonicalMeshHash(s.view().mesh());
+}
+
+void sculptSome(Session& s, int strokes, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> U(-35, 35);
+    for (int i = 0; i < strokes; ++i) {
+        s.setTool(i % 3 == 2 ? ToolKind::Carve : ToolKind::Add);
+        s.setSize(5 + i % 3);
+        std::vector<Vec3> pts;
+        Vec3 p(U(rng), U(rng), U(rng));
+        for (int k = 0; k < 6; ++k)
+            pts.push_back(p + Vec3(k * 3.0, 0.5 * k, 0));
+        s.stroke(pts, false);
+    }
+}
+
+TEST(Session, UndoToTheStartAndRedoToTheEnd) {
+    Session s(smallConfig());
+    const uint64_t start = viewHash(s);
+    sculptSome(s, 10, 1);
+    const uint64_t end = viewHash(s);
+    ASSERT_NE(start, end);
+    while (s.undo()) {
+    }
+    EXPECT_EQ(viewHash(s), start);
+    EXPECT_EQ(s.sculpture().store().vertexCount(), 0u);
+    while (s.redo()) {
+    }
+    EXPECT_EQ(viewHash(s), end);
+    EXPECT_EQ(s.verifyMesh(), "");
+    // A new stroke after an undo drops the redo steps.
+    s.undo();
+    sculptSome(s, 1, 2);
+    EXPECT_FALSE(s.redo());
+}
+
+TEST(Session, SizesFollowTheZoomTable) {
+    Session s(smallConfig());
+    EXPECT_THROW(s.setSize(3), SessionError);  // zoom 1 offers 7, 6, 5
+    s.setSize(5);
+    s.setZoom(4, Vec3(0, 0, 30));
+    EXPECT_EQ(s.size(), 4);  // 5 is not offered at zoom 4: the nearest offered size
+    EXPECT_NO_THROW(s.setSize(2));
+    s.setTool(ToolKind::Select);
+    EXPECT_THROW(s.stroke({Vec3(0, 0, 30)}, false), SessionError);
+}
+
+TEST(Session, ARefusedSampleCancelsTheWholeStroke) {
+    Session s(smallConfig());
+    const uint64_t before = viewHash(s);
+    s.setSize(5);
+    EXPECT_THROW(s.stroke({Vec3(0, 0, 30), Vec3(5, 0, 30), Vec3(1e7, 0, 0)}, false),
+                 std::invalid_argument);
+    EXPECT_EQ(viewHash(s), before);
+    EXPECT_EQ(s.sculpture().store().vertexCount(), 0u);
+    EXPECT_FALSE(s.history().canUndo());
+}
+
+TEST(Session, WorldSpaceStrokesFollowTheObjectPose) {
+    Session a(smallConfig()), b(smallConfig());
+    core::RigidTransform pose;
+    pose.rotation = glm::angleAxis(glm::radians(90.0), Vec3(1, 0, 0));
+    pose.translation = Vec3(5, 6, 7);
+    b.setObjectPose(pose);
+    std::vector<Vec3> objectPts = {Vec3(0, 0, 30), Vec3(8, 2, 31)}, worldPts;
+    for (const Vec3& p : objectPts)
+        worldPts.push_back(pose.apply(p));
+    a.stroke(objectPts, false);
+    b.stroke(worldPts, true);
+    EXPECT_EQ(viewHash(a), viewHash(b));
+}
+
+TEST(Session, ProjectSaveAndReopenGivesTheSameSculptureAndHistory) {
+    TempDir dir;
+    uint64_t end = 0, mid = 0;
+    {
+        auto s = Session::openProject(dir.path, smallConfig());
+        sculptSome(*s, 4, 3);
+        s->save();
+        sculptSome(*s, 3, 4);  // journaled after the snapshot
+        s->undo();
+        mid = viewHash(*s);
+        s->redo();
+        end = viewHash(*s);
+    }
+    auto s = Session::openProject(dir.path, core::SculptConfig{});  // stored config wins
+    EXPECT_EQ(s->recoveredEdits(), 5u);                             // 3 strokes, undo, redo
+    EXPECT_EQ(viewHash(*s), end);
+    EXPECT_EQ(s->sculpture().config().polygonizer.gridN, 64);
+    s->undo();
+    EXPECT_EQ(viewHash(*s), mid);
+    while (s->undo()) {
+    }
+    Session fresh(smallConfig());
+    EXPECT_EQ(viewHash(*s), viewHash(fresh));
+}
+
+TEST(Session, DamagedJournalTailIsDroppedAndReported) {
+    TempDir dir;
+    uint64_t afterTwo = 0;
+    {
+        auto s = Session::openProject(dir.path, smallConfig());
+        sculptSome(*s, 2, 5);
+        afterTwo = viewHash(*s);
+        sculptSome(*s, 1, 6);
+    }
+    const auto journal = core::journalPath(dir.path);
+    const auto size = std::filesystem::file_size(journal);
+    std::filesystem::resize_file(journal, size - 7);  // the last record torn
+    {
+        auto s = Session::openProject(dir.path, smallConfig());
+        EXPECT_EQ(s->recoveredEdits(), 2u);
+        EXPECT_NE(s->recoveryWarning().find("is truncated"), std::string::npos)
+            << s->recoveryWarning();
+        EXPECT_EQ(viewHash(*s), afterTwo);
+        sculptSome(*s, 1, 6);  // appends after the good prefix
+    }
+    {
+        // Flip a byte inside the second record: the first survives, the rest is dropped.
+        std::fstream f(journal, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekg(0, std::ios::end);
+        const auto n = f.tellg();
+        f.seekp(n / 2);
+        char c;
+        f.seekg(n / 2);
+        f.read(&c, 1);
+        c ^= 0x5A;
+        f.seekp(n / 2);
+        f.write(&c, 1);
+    }
+    auto s = Session::openProject(dir.path, smallConfig());
+    EXPECT_LT(s->recoveredEdits(), 3u);
+    EXPECT_FALSE(s->recoveryWarning().empty());
+    EXPECT_EQ(s->verifyMesh(), "");
+}
+
+TEST(Session, DamagedSnapshotIsAClearError) {
+    TempDir dir;
+    {
+        auto s = Session::openProject(dir.path, smallConfig());
+        sculptSome(*s, 2, 7);
+        s->save();
+    }
+    const auto snap = core::snapshotPath(dir.path);
+    std::filesystem::resize_file(snap, std::filesystem::file_size(snap) - 10);
+    try {
+        Session::openProject(dir.path, smallConfig());
+        FAIL() << "no error";
+    } catch (const core::ProjectError& e) {
+        EXPECT_NE(std::string(e.what()).find("snapshot.vsnap"), std::string::npos) << e.what();
+    }
+    std::ofstream(core::journalPath(dir.path), std::ios::trunc) << "garbage!";
+    std::filesystem::remove(snap);
+    EXPECT_THROW(Session::openProject(dir.path, smallConfig()), core::ProjectError);
+}
+
+TEST(Session, ConfigRoundTripsThroughJson) {
+    core::SculptConfig cfg = smallConfig();
+    cfg.placement = core::PlacementMode::Thesis;
+    cfg.growth = 1.4;
+    cfg.zoom.allowedSizes[2] = {5, 4};
+    cfg.manualSupport = core::ManualSupport{6, {0.2, 0.4, 0.7, 1, 1.5, 2, 3}};
+    const core::SculptConfig back = core::parseConfig(core::configToJson(cfg), "x");
+    EXPECT_EQ(core::configToJson(back), core::configToJson(cfg));
+    EXPECT_EQ(back.growth, 1.4);
+    EXPECT_EQ(back.placement, core::PlacementMode::Thesis);
+    EXPECT_EQ(back.zoom.allowedSizes[2], (std::vector<int>{5, 4}));
+}
+
+}  // namespace

@@ -159,41 +159,9 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
     {
         Progress progress(err, o.progress && ::isatty(2), script.commands.size());
         size_t done = 0;
-        bool world = false;
         for (const ScriptCommand& c : script.commands) {
             try {
-                using K = ScriptCommand::Kind;
-                bool edited = false;
-                switch (c.kind) {
-                    case K::Tool:
-                        session->setTool(c.tool);
-                        break;
-                    case K::Size:
-                        session->setSize(c.value);
-                        break;
-                    case K::Zoom:
-                        session->setZoom(c.value, c.point);
-                        break;
-                    case K::Object:
-                        session->setObjectPose(c.pose);
-                        break;
-                    case K::Space:
-                        world = c.world;
-                        break;
-                    case K::Stroke:
-                        session->stroke(c.points, world);
-                        edited = true;
-                        break;
-                    case K::Undo:
-                        edited = session->undo();
-                        break;
-                    case K::Redo:
-                        edited = session->redo();
-                        break;
-                    case K::Save:
-                        session->save();
-                        break;
-                }
+                const bool edited = session->apply(c);
                 if (o.check && edited) {
                     const std::string diff = session->verifyMesh();
                     if (!diff.empty()) {

@@ -89,6 +89,38 @@ void Session::rebuildView() {
     mView->rebuildAll();
 }
 
+bool Session::apply(const ScriptCommand& c) {
+    using K = ScriptCommand::Kind;
+    switch (c.kind) {
+        case K::Tool:
+            setTool(c.tool);
+            return false;
+        case K::Size:
+            setSize(c.value);
+            return false;
+        case K::Zoom:
+            setZoom(c.value, c.point);
+            return false;
+        case K::Object:
+            setObjectPose(c.pose);
+            return false;
+        case K::Space:
+            mWorldSpace = c.world;
+            return false;
+        case K::Stroke:
+            stroke(c.points, mWorldSpace);
+            return true;
+        case K::Undo:
+            return undo();
+        case K::Redo:
+            return redo();
+        case K::Save:
+            save();
+            return false;
+    }
+    return false;
+}
+
 void Session::setSize(int level) {
     if (!toolAllowedAtZoom(mConfig, mZoom, level)) {
         std::string allowed;

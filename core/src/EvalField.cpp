@@ -16,6 +16,41 @@ struct LevelView {
     double spacing = 0, invSpacing = 0, support = 0, support2 = 0, invSupport = 0;
 };
 
+/// Visits, in the one order every evaluator uses (brick coordinates ascending, then bit
+/// order), the non-zero skeletons of a level that lie in bricks overlapping the index range
+/// of [lo - R, hi + R]. `find(bx, by, bz)` returns a brick position or -1;
+/// `visit(position, weight)` sees each skeleton. Summing in this order everywhere is what makes
+/// FieldProbe, LocalField, and so partial and full polygonization, agree bit for bit.
+template <typename Find, typename Visit>
+inline void forEachSkeletonNear(const LevelBricks& L, double h, double R, const Vec3& lo,
+                                const Vec3& hi, Find&& find, Visit&& visit) {
+    const double inv = 1.0 / h;
+    const int x0 = std::max(int(std::floor((lo.x - R) * inv)), L.min[0]);
+    const int y0 = std::max(int(std::floor((lo.y - R) * inv)), L.min[1]);
+    const int z0 = std::max(int(std::floor((lo.z - R) * inv)), L.min[2]);
+    const int x1 = std::min(int(std::ceil((hi.x + R) * inv)), L.max[0]);
+    const int y1 = std::min(int(std::ceil((hi.y + R) * inv)), L.max[1]);
+    const int z1 = std::min(int(std::ceil((hi.z + R) * inv)), L.max[2]);
+    if (x0 > x1 || y0 > y1 || z0 > z1) return;
+    for (int bx = x0 >> 2; bx <= x1 >> 2; ++bx)
+        for (int by = y0 >> 2; by <= y1 >> 2; ++by)
+            for (int bz = z0 >> 2; bz <= z1 >> 2; ++bz) {
+                const int64_t slot = find(bx, by, bz);
+                if (slot < 0) continue;
+                const Brick& b = L.bricks[size_t(slot)];
+                const float* w = L.pool.data() + b.offset;
+                uint64_t bits = b.mask;
+                for (int r = 0; bits; ++r) {
+                    const int n = std::countr_zero(bits);
+                    bits &= bits - 1;
+                    if (w[r] == 0.0f) continue;
+                    visit(Vec3((b.ox + (n >> 4)) * h, (b.oy + ((n >> 2) & 3)) * h,
+                               (b.oz + (n & 3)) * h),
+                          double(w[r]));
+                }
+            }
+}
+
 /// Direct-mapped cache of brick lookups: queries from one thread are spatially coherent
 /// (polygonizer sweeps, stroke placement), so the same few bricks are asked for again and
 /// again. Entries are tagged with the store's generation, so a brick created after a
@@ -87,41 +122,23 @@ struct FieldProbe::Impl {
             const LevelBricks& L = store.levels[i];
             if (L.count == 0) continue;
             const LevelView& v = levels[i];
-            // Lattice index range whose vertices can lie within the support of p.
-            const int x0 = std::max(int(std::floor((p.x - v.support) * v.invSpacing)), L.min[0]);
-            const int y0 = std::max(int(std::floor((p.y - v.support) * v.invSpacing)), L.min[1]);
-            const int z0 = std::max(int(std::floor((p.z - v.support) * v.invSpacing)), L.min[2]);
-            const int x1 = std::min(int(std::ceil((p.x + v.support) * v.invSpacing)), L.max[0]);
-            const int y1 = std::min(int(std::ceil((p.y + v.support) * v.invSpacing)), L.max[1]);
-            const int z1 = std::min(int(std::ceil((p.z + v.support) * v.invSpacing)), L.max[2]);
-            if (x0 > x1 || y0 > y1 || z0 > z1) continue;
-            for (int bx = x0 >> 2; bx <= x1 >> 2; ++bx)
-                for (int by = y0 >> 2; by <= y1 >> 2; ++by)
-                    for (int bz = z0 >> 2; bz <= z1 >> 2; ++bz) {
-                        const int64_t slot = cache.find(L, i, bx, by, bz, store.generation);
-                        if (slot < 0) continue;
-                        const Brick& b = L.bricks[size_t(slot)];
-                        const float* w = L.pool.data() + b.offset;
-                        uint64_t bits = b.mask;
-                        for (int r = 0; bits; ++r) {
-                            const int n = std::countr_zero(bits);
-                            bits &= bits - 1;
-                            const Vec3 pos((b.ox + (n >> 4)) * v.spacing,
-                                           (b.oy + ((n >> 2) & 3)) * v.spacing,
-                                           (b.oz + (n & 3)) * v.spacing);
-                            const Vec3 d = p - pos;
-                            const double r2 = glm::dot(d, d);
-                            if (r2 >= v.support2 || w[r] == 0.0f) continue;
-                            const double dist = std::sqrt(r2);
-                            const double u = dist * v.invSupport;
-                            sum += double(w[r]) * falloff.value(u);
-                            if constexpr (WithGradient) {
-                                if (dist > 0)
-                                    *grad += d * (double(w[r]) * falloff.derivative(u) *
-                                                  v.invSupport / dist);
-                            }
-                        }
+            forEachSkeletonNear(
+                L, v.spacing, v.support, p, p,
+                [&](int bx, int by, int bz) {
+                    return cache.find(L, i, bx, by, bz, store.generation);
+                },
+                [&](const Vec3& pos, double w) {
+                    const Vec3 d = p - pos;
+                    const double r2 = glm::dot(d, d);
+                    if (r2 >= v.support2) return;
+                    const double dist = std::sqrt(r2);
+                    const double u = dist * v.invSupport;
+                    sum += w * falloff.value(u);
+                    if constexpr (WithGradient) {
+                        if (dist > 0)
+                            *grad += d * (w * falloff.derivative(u) * v.invSupport / dist);
                     }
+                });
         }
         return sum;
     }
@@ -206,33 +223,13 @@ LocalField::LocalField(const Sculpture& sculpture, const Aabb& box)
         const LevelBricks& L = store.levels[i];
         if (L.count == 0) continue;
         const ToolLevel& tl = sculpture.levels().level(i + 1);
-        const double h = tl.spacingMm, R = tl.supportMm;
-        // The same index range FieldProbe uses for any point of the box, so the same bricks
-        // are visited in the same (lexicographic) order.
-        const int x0 = std::max(int(std::floor((box.min.x - R) / h)), L.min[0]);
-        const int y0 = std::max(int(std::floor((box.min.y - R) / h)), L.min[1]);
-        const int z0 = std::max(int(std::floor((box.min.z - R) / h)), L.min[2]);
-        const int x1 = std::min(int(std::ceil((box.max.x + R) / h)), L.max[0]);
-        const int y1 = std::min(int(std::ceil((box.max.y + R) / h)), L.max[1]);
-        const int z1 = std::min(int(std::ceil((box.max.z + R) / h)), L.max[2]);
-        if (x0 > x1 || y0 > y1 || z0 > z1) continue;
-        for (int bx = x0 >> 2; bx <= x1 >> 2; ++bx)
-            for (int by = y0 >> 2; by <= y1 >> 2; ++by)
-                for (int bz = z0 >> 2; bz <= z1 >> 2; ++bz) {
-                    const int64_t slot = L.find(bx, by, bz);
-                    if (slot < 0) continue;
-                    const Brick& b = L.bricks[size_t(slot)];
-                    const float* w = L.pool.data() + b.offset;
-                    uint64_t bits = b.mask;
-                    for (int r = 0; bits; ++r) {
-                        const int n = std::countr_zero(bits);
-                        bits &= bits - 1;
-                        if (w[r] == 0.0f) continue;
-                        const Vec3 pos((b.ox + (n >> 4)) * h, (b.oy + ((n >> 2) & 3)) * h,
-                                       (b.oz + (n & 3)) * h);
-                        if (reaches(pos, R)) push(pos, double(w[r]), R);
-                    }
-                }
+        const double R = tl.supportMm;
+        forEachSkeletonNear(
+            L, tl.spacingMm, R, box.min, box.max,
+            [&](int bx, int by, int bz) { return L.find(bx, by, bz); },
+            [&](const Vec3& pos, double w) {
+                if (reaches(pos, R)) push(pos, w, R);
+            });
     }
 }
 

@@ -98,17 +98,7 @@ TEST(CrashRecovery, KillNineLosesAtMostTheEditInFlight) {
         size_t applied = 0;
         for (const ScriptCommand& c : script.commands) {
             if (applied == edits) break;
-            using K = ScriptCommand::Kind;
-            if (c.kind == K::Tool) replay.setTool(c.tool);
-            if (c.kind == K::Size) replay.setSize(c.value);
-            if (c.kind == K::Stroke) {
-                replay.stroke(c.points, false);
-                ++applied;
-            }
-            if (c.kind == K::Undo) {
-                replay.undo();
-                ++applied;
-            }
+            applied += replay.apply(c) ? 1 : 0;
         }
         ASSERT_EQ(applied, edits);
         EXPECT_EQ(core::canonicalMeshHash(reopened->view().mesh()),

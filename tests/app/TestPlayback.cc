@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Golden playback: the example scripts, checked by mesh properties (not pixels).
 #include "vsculpt/app/Session.h"
+#include "vsculpt/core/EvalField.h"
 
 #include <gtest/gtest.h>
 
@@ -14,38 +15,8 @@ namespace {
 std::unique_ptr<Session> play(const std::string& name) {
     const Script script = loadScript(std::filesystem::path(VSCULPT_EXAMPLES_DIR) / name);
     auto s = std::make_unique<Session>(core::loadConfig(core::defaultConfigPath()));
-    bool world = false;
     for (const ScriptCommand& c : script.commands) {
-        using K = ScriptCommand::Kind;
-        switch (c.kind) {
-            case K::Tool:
-                s->setTool(c.tool);
-                break;
-            case K::Size:
-                s->setSize(c.value);
-                break;
-            case K::Zoom:
-                s->setZoom(c.value, c.point);
-                break;
-            case K::Object:
-                s->setObjectPose(c.pose);
-                break;
-            case K::Space:
-                world = c.world;
-                break;
-            case K::Stroke:
-                s->stroke(c.points, world);
-                break;
-            case K::Undo:
-                s->undo();
-                break;
-            case K::Redo:
-                s->redo();
-                break;
-            case K::Save:
-                s->save();
-                break;
-        }
+        s->apply(c);
         EXPECT_EQ(s->verifyMesh(), "") << name << ":" << c.line;
     }
     return s;
@@ -69,8 +40,34 @@ TEST(Playback, Snowman) {
     EXPECT_GT(counts.byLevel[4], 20u);  // level 5: arms and brim
     EXPECT_GT(counts.byLevel[6], 0u);   // level 7: head
     EXPECT_LT(counts.total(), 2000u);   // the thesis's scale: hundreds to about a thousand
-    // The letters are only visible at fine resolution: the hat front differs between a
-    // mesh at the zoom-5 spacing and one at zoom 1 by much more than the eyes region.
+    // The small tools really carved: the letter grooves on the hat, the eyes and the mouth
+    // are empty, the hat between the letters and the cheeks are not.
+    core::FieldProbe probe(s->sculpture());
+    EXPECT_LT(probe.value(core::Vec3(-4.5, -11.3, 94)), 0);  // bottom of the "V"
+    EXPECT_LT(probe.value(core::Vec3(4, -11.3, 95.5)), 0);   // in the "S"
+    EXPECT_GT(probe.value(core::Vec3(-0.8, -10.5, 96)), 0);  // hat between the letters
+    EXPECT_LT(probe.value(core::Vec3(-7, -17.8, 71.5)), 0);  // left eye
+    EXPECT_LT(probe.value(core::Vec3(0, -19.5, 58.5)), 0);   // mouth
+    EXPECT_GT(probe.value(core::Vec3(-12, -14, 64)), 0);     // cheek
+    // The letters are finer than the zoom-1 grid: at its spacing they leave the hat front
+    // nearly untouched, at zoom 5's they are resolved (many more vertices in that patch).
+    auto vertsIn = [](const core::Mesh& m, const core::Aabb& box) {
+        size_t n = 0;
+        for (const core::Vec3& p : m.positions)
+            n += box.contains(p);
+        return n;
+    };
+    const core::Aabb letters{core::Vec3(-8, -14, 92), core::Vec3(6, -10, 100)};
+    auto meshAtZoom = [&](int z) {
+        const core::SculptConfig& cfg = s->sculpture().config();
+        core::Polygonizer poly(
+            s->sculpture(),
+            core::zoomRegion(cfg, s->sculpture().levels(), z, core::Vec3(0, -10, 96)),
+            cfg.polygonizer.bisectionTolerance);
+        poly.rebuildAll();
+        return poly.mesh();
+    };
+    EXPECT_GT(vertsIn(meshAtZoom(5), letters), 20 * vertsIn(meshAtZoom(1), letters));
     const core::Aabb box = core::meshBounds(mesh);
     EXPECT_GT(box.max.z, 105);  // the hat
     EXPECT_GT(box.max.x, 70);   // the arms

@@ -203,8 +203,9 @@ TEST_P(PartialEqualsFull, AfterRandomStrokes) {
     EXPECT_EQ(poly.verifyAgainstFullRebuild(), "");
     // When the whole sculpture lies inside the region, its mesh is closed.
     const Aabb all = s.supportBounds(), box = region.box();
-    if (box.contains(all.min) && box.contains(all.max))
+    if (box.contains(all.min) && box.contains(all.max)) {
         EXPECT_TRUE(analyzeTopology(poly.mesh()).watertight());
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(

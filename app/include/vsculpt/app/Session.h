@@ -49,6 +49,10 @@ class Session {
     int zoom() const { return mZoom; }
     void setObjectPose(const core::RigidTransform& worldFromObject);
 
+    /// Runs one playback-script command. Returns true when it changed the sculpture (a
+    /// stroke, or an undo/redo that had something to do). Errors as the methods below.
+    bool apply(const ScriptCommand& command);
+
     // Edits -----------------------------------------------------------------------------
     /// One stroke (one undo step) through the given points, in world space when `world`.
     /// Every sample updates the mesh; the stroke is journaled (and flushed) at its end.
@@ -92,6 +96,7 @@ class Session {
     int mZoom = 1;
     core::Vec3 mZoomCenter{0.0};
     core::RigidTransform mWorldFromObject;
+    bool mWorldSpace = false;  // script `space`: stroke points are world coordinates
     std::vector<double> mSampleMs;
 
     std::optional<std::filesystem::path> mProjectDir;

@@ -234,13 +234,25 @@ LocalField::LocalField(const Sculpture& sculpture, const Aabb& box)
 }
 
 double LocalField::value(const Vec3& p) const {
-    double sum = 0;
+    // Two passes: squared distances for all skeletons (a loop the compiler vectorises), then
+    // the falloff only for those in reach, in the same order as FieldProbe.
     const size_t n = mX.size();
-    for (size_t i = 0; i < n; ++i) {
-        const double dx = p.x - mX[i], dy = p.y - mY[i], dz = p.z - mZ[i];
-        const double r2 = dx * dx + dy * dy + dz * dz;
-        if (r2 >= mR2[i]) continue;
-        sum += mW[i] * mFalloff->value(std::sqrt(r2) * mInvR[i]);
+    constexpr size_t kChunk = 64;
+    double r2[kChunk];
+    double sum = 0;
+    for (size_t base = 0; base < n; base += kChunk) {
+        const size_t m = std::min(kChunk, n - base);
+        const double* x = mX.data() + base;
+        const double* y = mY.data() + base;
+        const double* z = mZ.data() + base;
+        for (size_t i = 0; i < m; ++i) {
+            const double dx = p.x - x[i], dy = p.y - y[i], dz = p.z - z[i];
+            r2[i] = dx * dx + dy * dy + dz * dz;
+        }
+        for (size_t i = 0; i < m; ++i) {
+            if (r2[i] >= mR2[base + i]) continue;
+            sum += mW[base + i] * mFalloff->value(std::sqrt(r2[i]) * mInvR[base + i]);
+        }
     }
     return sum - mIso;
 }

@@ -30,19 +30,33 @@ std::string validateFalloff(const FalloffParams& p) {
     return why.str();
 }
 
+namespace {
+/// Coefficients in u of the cubic Hermite segment from (u0, v0) with slope m0 to (u1, v1)
+/// with slope m1, with tangent u-components equal to the width (so u(t) is linear).
+void hermiteInU(double u0, double u1, double v0, double v1, double m0, double m1, double c[4]) {
+    const double w = u1 - u0;
+    // In t = (u - u0) / w: v0 + m0 w t + (3(v1 - v0) - (2 m0 + m1) w) t^2
+    //                      + (2(v0 - v1) + (m0 + m1) w) t^3
+    const double b0 = v0, b1 = m0 * w, b2 = 3 * (v1 - v0) - (2 * m0 + m1) * w,
+                 b3 = 2 * (v0 - v1) + (m0 + m1) * w;
+    // Substitute t = (u - u0) / w and expand.
+    const double s = 1 / w, s2 = s * s, s3 = s2 * s;
+    c[0] = b0 - b1 * u0 * s + b2 * u0 * u0 * s2 - b3 * u0 * u0 * u0 * s3;
+    c[1] = b1 * s - 2 * b2 * u0 * s2 + 3 * b3 * u0 * u0 * s3;
+    c[2] = b2 * s2 - 3 * b3 * u0 * s3;
+    c[3] = b3 * s3;
+}
+}  // namespace
+
 HermiteFalloff::HermiteFalloff(const FalloffParams& p) : mParams(p) {
     if (const std::string why = validateFalloff(p); !why.empty()) throw std::invalid_argument(why);
-    mF0 = p.f0;
     mA = p.controlU;
-    mFa = p.controlValue;
-    mS = p.controlSlope;
-    mW = 1 - mA;
-    mInvA = 1 / mA;
-    mInvW = 1 / mW;
+    hermiteInU(0.0, mA, p.f0, p.controlValue, 0.0, p.controlSlope, mC1);
+    hermiteInU(mA, 1.0, p.controlValue, 0.0, p.controlSlope, 0.0, mC2);
 }
 
 double HermiteFalloff::inverse(double level) const {
-    if (!(level > 0 && level < mF0))
+    if (!(level > 0 && level < mParams.f0))
         throw std::invalid_argument("HermiteFalloff::inverse: level outside (0, f0)");
     double lo = 0, hi = 1;  // F(lo) > level >= F(hi)
     for (int i = 0; i < 200 && hi - lo > 1e-15; ++i) {

@@ -33,28 +33,16 @@ class HermiteFalloff {
     /// F(u) for normalised distance u >= 0. Returns 0 for u >= 1.
     double value(double u) const {
         if (u >= 1.0) return 0.0;
-        if (u <= mA) {
-            const double t = u * mInvA;
-            const double t2 = t * t, t3 = t2 * t;
-            return (2 * t3 - 3 * t2 + 1) * mF0 + (-2 * t3 + 3 * t2) * mFa + (t3 - t2) * mA * mS;
-        }
-        const double t = (u - mA) * mInvW;
-        const double t2 = t * t, t3 = t2 * t;
-        return (2 * t3 - 3 * t2 + 1) * mFa + (t3 - 2 * t2 + t) * mW * mS;
+        // Each segment's cubic expanded in u once (constructor), evaluated by Horner's rule.
+        const double* c = u <= mA ? mC1 : mC2;
+        return c[0] + u * (c[1] + u * (c[2] + u * c[3]));
     }
 
     /// dF/du for u >= 0 (0 for u >= 1 and at u = 0).
     double derivative(double u) const {
         if (u >= 1.0) return 0.0;
-        if (u <= mA) {
-            const double t = u * mInvA;
-            const double t2 = t * t;
-            return ((6 * t2 - 6 * t) * mF0 + (-6 * t2 + 6 * t) * mFa + (3 * t2 - 2 * t) * mA * mS) *
-                   mInvA;
-        }
-        const double t = (u - mA) * mInvW;
-        const double t2 = t * t;
-        return ((6 * t2 - 6 * t) * mFa + (3 * t2 - 4 * t + 1) * mW * mS) * mInvW;
+        const double* c = u <= mA ? mC1 : mC2;
+        return c[1] + u * (2 * c[2] + u * 3 * c[3]);
     }
 
     /// The u in [0, 1] where F(u) = level, for 0 < level < f0 (F is monotone there).
@@ -64,7 +52,8 @@ class HermiteFalloff {
 
   private:
     FalloffParams mParams;
-    double mF0, mA, mFa, mS, mW, mInvA, mInvW;
+    double mA;
+    double mC1[4], mC2[4];  // polynomial coefficients in u of the two segments
 };
 
 }  // namespace vsculpt::core

@@ -142,10 +142,15 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
 
     std::unique_ptr<Session> session;
     try {
-        if (o.projectDir.empty())
+        if (o.projectDir.empty()) {
             session = std::make_unique<Session>(cfg);
-        else
+        } else {
+            if (!o.configPath.empty() && std::filesystem::exists(core::snapshotPath(o.projectDir)))
+                err << "vsculpt play: note: " << o.projectDir
+                    << " is an existing project: its stored config is used, --config is "
+                       "ignored\n";
             session = Session::openProject(o.projectDir, cfg);
+        }
     } catch (const std::exception& e) {
         err << "vsculpt play: error: " << e.what() << "\n";
         return 2;

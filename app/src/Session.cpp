@@ -129,11 +129,13 @@ void Session::setSize(int level) {
         throw SessionError("size " + std::to_string(level) + " is not offered at zoom " +
                            std::to_string(mZoom) + " (offered:" + allowed + ")");
     }
+    endStroke();
     mSize = level;
 }
 
 void Session::setZoom(int zoom, const Vec3& center) {
     if (zoom < 1 || zoom > kZoomLevels) throw SessionError("zoom level outside 1..5");
+    endStroke();
     mZoom = zoom;
     mZoomCenter = zoom == 1 ? mConfig.sphereCenterMm : center;
     if (!toolAllowedAtZoom(mConfig, mZoom, mSize)) {
@@ -153,45 +155,61 @@ void Session::journal(const JournalRecord& r) {
     if (mJournal) mJournal->append(r);
 }
 
-void Session::stroke(const std::vector<Vec3>& points, bool world) {
+void Session::beginStroke() {
+    if (mStroke) throw SessionError("a stroke is already in progress");
     if (mTool == ToolKind::Select)
         throw SessionError("stroke needs the add or carve tool (the select tool is active)");
     const ToolOp op = mTool == ToolKind::Add ? ToolOp::Add : ToolOp::Carve;
-    StrokeRecord rec;
-    rec.op = op;
-    rec.level = mSize;
-    {
-        StrokeBuilder builder(*mSculpture, op, mSize);
-        try {
-            for (const Vec3& p : points) {
-                const Vec3 objectPos = world ? mWorldFromObject.inverse().apply(p) : p;
-                const auto t0 = std::chrono::steady_clock::now();
-                const EditResult r = builder.addSample(objectPos);
-                mView->update(r.changedPoints, r.supportMm);
-                mSampleMs.push_back(
-                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                        .count());
-                rec.samples.push_back(objectPos);
-            }
-        } catch (...) {
-            // A refused sample cancels the whole stroke: no half-applied, unjournaled edit.
-            mView->update(revertChanges(*mSculpture, builder.changes()));
-            throw;
-        }
-        rec.changes = builder.takeChanges();
+    mStroke = std::make_unique<StrokeBuilder>(*mSculpture, op, mSize);
+    mStrokeRecord = StrokeRecord{};
+    mStrokeRecord.op = op;
+    mStrokeRecord.level = mSize;
+}
+
+void Session::strokeSample(const Vec3& p, bool world) {
+    if (!mStroke) throw SessionError("no stroke in progress");
+    const Vec3 objectPos = world ? mWorldFromObject.inverse().apply(p) : p;
+    try {
+        const auto t0 = std::chrono::steady_clock::now();
+        const EditResult r = mStroke->addSample(objectPos);
+        mView->update(r.changedPoints, r.supportMm);
+        mSampleMs.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                .count());
+        mStrokeRecord.samples.push_back(objectPos);
+    } catch (...) {
+        // A refused sample cancels the whole stroke: no half-applied, unjournaled edit.
+        mView->update(revertChanges(*mSculpture, mStroke->changes()));
+        mStroke.reset();
+        throw;
     }
+}
+
+void Session::endStroke() {
+    if (!mStroke) return;
+    mStrokeRecord.changes = mStroke->takeChanges();
+    mStroke.reset();
     // The edit is durable before it counts as done.
     JournalRecord j;
     j.sequence = ++mSequence;
     j.op = JournalOp::Stroke;
-    j.tool = op;
-    j.level = mSize;
-    j.samples = rec.samples;
+    j.tool = mStrokeRecord.op;
+    j.level = mStrokeRecord.level;
+    j.samples = mStrokeRecord.samples;
     journal(j);
-    mHistory.push(std::move(rec));
+    mHistory.push(std::move(mStrokeRecord));
+    mStrokeRecord = StrokeRecord{};
+}
+
+void Session::stroke(const std::vector<Vec3>& points, bool world) {
+    beginStroke();
+    for (const Vec3& p : points)
+        strokeSample(p, world);
+    endStroke();
 }
 
 bool Session::undo() {
+    endStroke();
     if (!mHistory.canUndo()) return false;
     const Aabb box = mHistory.undo(*mSculpture);
     mView->update(box);
@@ -203,6 +221,7 @@ bool Session::undo() {
 }
 
 bool Session::redo() {
+    endStroke();
     if (!mHistory.canRedo()) return false;
     const Aabb box = mHistory.redo(*mSculpture);
     mView->update(box);
@@ -214,6 +233,7 @@ bool Session::redo() {
 }
 
 void Session::save() {
+    endStroke();
     if (!mProjectDir) return;
     writeSnapshot(snapshotPath(*mProjectDir), configToJson(mConfig), mSequence, *mSculpture,
                   mHistory);

@@ -9,6 +9,7 @@
 #include "vsculpt/core/Config.h"
 #include "vsculpt/core/History.h"
 #include "vsculpt/core/Mesh.h"
+#include "vsculpt/core/PlaceStroke.h"
 #include "vsculpt/core/Polygonizer.h"
 #include "vsculpt/core/Project.h"
 #include "vsculpt/core/Sculpture.h"
@@ -38,7 +39,11 @@ class Session {
     ~Session();
 
     // Tool state ------------------------------------------------------------------------
-    void setTool(ToolKind tool) { mTool = tool; }
+    /// Changing tool, size or zoom ends a stroke in progress.
+    void setTool(ToolKind tool) {
+        endStroke();
+        mTool = tool;
+    }
     ToolKind tool() const { return mTool; }
     /// Throws SessionError when level is not offered at the current zoom.
     void setSize(int level);
@@ -57,6 +62,13 @@ class Session {
     /// One stroke (one undo step) through the given points, in world space when `world`.
     /// Every sample updates the mesh; the stroke is journaled (and flushed) at its end.
     void stroke(const std::vector<core::Vec3>& points, bool world);
+
+    /// The same, one sample at a time (interactive tools): begin, samples, end. A sample the
+    /// lattices cannot hold cancels the whole stroke and rethrows. end() journals it.
+    void beginStroke();
+    void strokeSample(const core::Vec3& point, bool world);
+    void endStroke();
+    bool inStroke() const { return mStroke != nullptr; }
     bool undo();
     bool redo();
     /// Writes a snapshot and empties the journal (projects only; no-op otherwise).
@@ -98,6 +110,8 @@ class Session {
     core::RigidTransform mWorldFromObject;
     bool mWorldSpace = false;  // script `space`: stroke points are world coordinates
     std::vector<double> mSampleMs;
+    std::unique_ptr<core::StrokeBuilder> mStroke;  // the stroke in progress
+    core::StrokeRecord mStrokeRecord;
 
     std::optional<std::filesystem::path> mProjectDir;
     std::unique_ptr<core::JournalWriter> mJournal;

@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: MIT
+/// @file StereoCamera.h
+/// @brief Per-eye view and projection matrices for stereo display (headset or desktop), by
+/// the off-axis (asymmetric frustum) method: both eyes share one zero-parallax plane, so
+/// objects on it appear at the same place in both images, nearer ones with crossed parallax
+/// and farther ones uncrossed. Units: millimetres; frames: head (x right, y up, looking
+/// down -z), world. OpenGL clip conventions (right-handed view, NDC z in [-1, 1]).
+#pragma once
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include <array>
+
+namespace vsculpt::render {
+
+struct StereoDisplay {
+    double ipdMm = 63.0;             ///< interpupillary distance
+    double focalDistanceMm = 600.0;  ///< distance of the zero-parallax plane from the eyes
+    double verticalFovDeg = 45.0;    ///< per-eye vertical field of view
+    double aspect = 1.0;             ///< per-eye image width / height
+    double nearMm = 10.0, farMm = 10000.0;
+};
+
+struct EyeView {
+    glm::dmat4 viewFromWorld{1.0};
+    glm::dmat4 clipFromView{1.0};
+    glm::dvec3 worldPosition{0.0};  ///< the eye's centre in the world
+};
+
+enum class Eye { Left = 0, Right = 1 };
+
+/// The two eyes for a head pose. `worldFromHead` places the head (the point between the
+/// eyes) in the world. A mono view is the same with ipdMm = 0.
+std::array<EyeView, 2> stereoEyes(const glm::dmat4& worldFromHead, const StereoDisplay& display);
+
+/// Where a world point lands in an eye's normalised device coordinates (x, y in [-1, 1] on
+/// screen, z depth).
+glm::dvec3 projectToNdc(const EyeView& eye, const glm::dvec3& worldPoint);
+
+}  // namespace vsculpt::render

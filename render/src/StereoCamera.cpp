@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/render/StereoCamera.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace vsculpt::render {
+
+std::array<EyeView, 2> stereoEyes(const glm::dmat4& worldFromHead, const StereoDisplay& d) {
+    if (!(d.ipdMm >= 0 && d.focalDistanceMm > 0 && d.verticalFovDeg > 0 && d.verticalFovDeg < 180 &&
+          d.aspect > 0 && d.nearMm > 0 && d.farMm > d.nearMm))
+        throw std::invalid_argument("stereo display description out of range");
+    std::array<EyeView, 2> eyes;
+    const double top = d.nearMm * std::tan(glm::radians(d.verticalFovDeg) * 0.5);
+    const double halfWidth = top * d.aspect;
+    for (int i = 0; i < 2; ++i) {
+        // Left eye at -ipd/2 along the head's x axis, right eye at +ipd/2.
+        const double offset = (i == 0 ? -0.5 : 0.5) * d.ipdMm;
+        const glm::dmat4 worldFromEye =
+            worldFromHead * glm::translate(glm::dmat4(1.0), glm::dvec3(offset, 0, 0));
+        // Shift each frustum towards the centre so both frame the same window at the focal
+        // distance (the zero-parallax plane), instead of toeing the eyes in.
+        const double shift = -offset * d.nearMm / d.focalDistanceMm;
+        EyeView& e = eyes[size_t(i)];
+        e.viewFromWorld = glm::inverse(worldFromEye);
+        e.clipFromView =
+            glm::frustum(-halfWidth + shift, halfWidth + shift, -top, top, d.nearMm, d.farMm);
+        e.worldPosition = glm::dvec3(worldFromEye[3]);
+    }
+    return eyes;
+}
+
+glm::dvec3 projectToNdc(const EyeView& eye, const glm::dvec3& p) {
+    const glm::dvec4 clip = eye.clipFromView * eye.viewFromWorld * glm::dvec4(p, 1.0);
+    return glm::dvec3(clip) / clip.w;
+}
+
+}  // namespace vsculpt::render

@@ -88,11 +88,15 @@ void Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
     evals += V * V * V;
     if (!anyIn || !anyOut) return;
 
-    std::unordered_map<uint64_t, size_t> vertexOf;  // edge key -> index in out.vertices
+    // Grid edges of the block by local start vertex and direction: computed yet or not.
+    // (A flat table: no hashing or allocation on this hot path.)
+    std::array<bool, V * V * V * 8> done{};
     // The crossing on the grid edge from local vertex a along dir (both ends in the block).
     auto crossing = [&](int ai, int aj, int ak, int dir) -> uint64_t {
         const uint64_t key = edgeKey(gx0 + ai, gy0 + aj, gz0 + ak, dir);
-        if (vertexOf.count(key)) return key;
+        bool& seen = done[size_t(((ai * V + aj) * V + ak) * 8 + dir)];
+        if (seen) return key;
+        seen = true;
         const int bi = ai + (dir & 1), bj = aj + ((dir >> 1) & 1), bk = ak + ((dir >> 2) & 1);
         Vec3 lo = mRegion.vertexPos(gx0 + ai, gy0 + aj, gz0 + ak);
         Vec3 hi = mRegion.vertexPos(gx0 + bi, gy0 + bj, gz0 + bk);
@@ -117,7 +121,6 @@ void Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
         ++evals;
         const double g = glm::length(s.gradient);
         const Vec3 n = g > 0 ? -s.gradient / g : Vec3(0.0);
-        vertexOf.emplace(key, out.vertices.size());
         out.vertices.push_back(EdgeVertex{key, p, n});
         return key;
     };

@@ -94,6 +94,14 @@ void Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
     // The crossing on the grid edge from local vertex a along dir (both ends in the block).
     auto crossing = [&](int ai, int aj, int ak, int dir) -> uint64_t {
         const uint64_t key = edgeKey(gx0 + ai, gy0 + aj, gz0 + ak, dir);
+        // An edge belongs to the block holding its start vertex; edges starting on this
+        // block's far faces are computed (once) by the next block, which has to be rebuilt
+        // too whenever the field there changes (its closed box contains them).
+        // (At the region's far faces there is no next block: the last one keeps them.)
+        const int last = mBlocksPerAxis - 1;
+        if ((ai == kBlockCells && bx < last) || (aj == kBlockCells && by < last) ||
+            (ak == kBlockCells && bz < last))
+            return key;
         bool& seen = done[size_t(((ai * V + aj) * V + ak) * 8 + dir)];
         if (seen) return key;
         seen = true;
@@ -244,8 +252,14 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
     for (size_t i = 0; i < blocks.size(); ++i) {
         stats.blocksCulled += culled[i];
         if (!changed[i]) continue;
+        // The block's own triangles, and its edges, which cells of the blocks just below it
+        // on each axis (and their diagonal neighbours) also use.
         const auto& b = blocks[i];
-        chunkChanged[(size_t(b[0] / per) * c + b[1] / per) * c + b[2] / per] = 1;
+        for (int s = 0; s < 8; ++s) {
+            const int x = b[0] - (s & 1), y = b[1] - ((s >> 1) & 1), z = b[2] - ((s >> 2) & 1);
+            if (x < 0 || y < 0 || z < 0) continue;
+            chunkChanged[(size_t(x / per) * c + y / per) * c + z / per] = 1;
+        }
     }
     for (size_t i = 0; i < chunkChanged.size(); ++i) {
         if (!chunkChanged[i]) continue;
@@ -320,20 +334,48 @@ PolygonizeStats Polygonizer::update(std::span<const Vec3> points, double radius,
     return rebuild(blocks, threaded, false);
 }
 
-Mesh Polygonizer::mesh() const {
-    Mesh m;
-    std::unordered_map<uint64_t, uint32_t> index;
-    for (const BlockMesh& b : mBlocks) {
-        for (const EdgeVertex& v : b.vertices) {
-            if (index.emplace(v.key, uint32_t(m.positions.size())).second) {
+const Polygonizer::EdgeVertex& Polygonizer::findVertex(uint64_t key) const {
+    constexpr uint64_t m = (uint64_t(1) << 20) - 1;
+    auto field = [&](int shift) {
+        int64_t v = int64_t((key >> shift) & m);
+        return v >= (int64_t(1) << 19) ? v - (int64_t(1) << 20) : v;  // sign-extend 20 bits
+    };
+    // The owner holds the start vertex; the last block of an axis also owns its far face.
+    auto owner = [&](int64_t g, int axis) {
+        const int64_t local = g - mRegion.originCell[axis];
+        return local < 0 ? -1 : int(std::min<int64_t>(local / kBlockCells, mBlocksPerAxis - 1));
+    };
+    const int bx = owner(field(0), 0), by = owner(field(20), 1), bz = owner(field(40), 2);
+    if (bx < 0 || by < 0 || bz < 0 || bx >= mBlocksPerAxis || by >= mBlocksPerAxis ||
+        bz >= mBlocksPerAxis)
+        throw std::logic_error("polygonizer: a triangle uses an edge outside the region");
+    const auto& verts = mBlocks[blockIndex(bx, by, bz)].vertices;
+    auto it = std::lower_bound(verts.begin(), verts.end(), key,
+                               [](const EdgeVertex& v, uint64_t k) { return v.key < k; });
+    if (it == verts.end() || it->key != key)
+        throw std::logic_error("polygonizer: a triangle uses an edge its owner did not compute");
+    return *it;
+}
+
+void Polygonizer::appendBlock(const BlockMesh& b, Mesh& m,
+                              std::unordered_map<uint64_t, uint32_t>& index) const {
+    for (const auto& t : b.triangles)
+        for (uint64_t k : t) {
+            auto [it, added] = index.emplace(k, uint32_t(m.positions.size()));
+            if (added) {
+                const EdgeVertex& v = findVertex(k);
                 m.positions.push_back(v.position);
                 m.normals.push_back(v.normal);
             }
+            m.indices.push_back(it->second);
         }
-        for (const auto& t : b.triangles)
-            for (uint64_t k : t)
-                m.indices.push_back(index.at(k));
-    }
+}
+
+Mesh Polygonizer::mesh() const {
+    Mesh m;
+    std::unordered_map<uint64_t, uint32_t> index;
+    for (const BlockMesh& b : mBlocks)
+        appendBlock(b, m, index);
     return m;
 }
 
@@ -354,32 +396,21 @@ uint64_t Polygonizer::chunkVersion(int cx, int cy, int cz) const {
 
 Mesh Polygonizer::chunkMesh(int cx, int cy, int cz) const {
     const int per = kChunkCells / kBlockCells;
-    size_t vertices = 0, triangles = 0;
+    size_t triangles = 0;
     for (int x = cx * per; x < (cx + 1) * per; ++x)
         for (int y = cy * per; y < (cy + 1) * per; ++y)
-            for (int z = cz * per; z < (cz + 1) * per; ++z) {
-                vertices += mBlocks[blockIndex(x, y, z)].vertices.size();
+            for (int z = cz * per; z < (cz + 1) * per; ++z)
                 triangles += mBlocks[blockIndex(x, y, z)].triangles.size();
-            }
     Mesh m;
-    m.positions.reserve(vertices);
-    m.normals.reserve(vertices);
+    m.positions.reserve(triangles);
+    m.normals.reserve(triangles);
     m.indices.reserve(3 * triangles);
     std::unordered_map<uint64_t, uint32_t> index;
-    index.reserve(vertices);
+    index.reserve(triangles);
     for (int x = cx * per; x < (cx + 1) * per; ++x)
         for (int y = cy * per; y < (cy + 1) * per; ++y)
-            for (int z = cz * per; z < (cz + 1) * per; ++z) {
-                const BlockMesh& b = mBlocks[blockIndex(x, y, z)];
-                for (const EdgeVertex& v : b.vertices)
-                    if (index.emplace(v.key, uint32_t(m.positions.size())).second) {
-                        m.positions.push_back(v.position);
-                        m.normals.push_back(v.normal);
-                    }
-                for (const auto& t : b.triangles)
-                    for (uint64_t k : t)
-                        m.indices.push_back(index.find(k)->second);
-            }
+            for (int z = cz * per; z < (cz + 1) * per; ++z)
+                appendBlock(mBlocks[blockIndex(x, y, z)], m, index);
     return m;
 }
 

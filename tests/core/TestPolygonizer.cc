@@ -285,6 +285,37 @@ TEST(Polygonizer, ChunksTogetherAreTheMeshAndVersionsTrackChanges) {
     EXPECT_EQ(canonicalMeshHash(gather()), canonicalMeshHash(poly.mesh()));
 }
 
+// A renderer re-uploads only chunks whose version changed: so every chunk whose mesh changed
+// must have a new version, also when only a vertex it shares with a neighbour moved.
+TEST(Polygonizer, EveryChangedChunkGetsANewVersion) {
+    SculptConfig cfg = emptyConfig(PlacementMode::Free);
+    cfg.sphereRadiusMm = 12;
+    Sculpture s(cfg);
+    Polygonizer poly(s, regionAround(Vec3(0), 0.5, 64), 1e-3);  // chunks of 8 mm
+    poly.rebuildAll();
+    const int c = poly.chunksPerAxis();
+    auto snapshot = [&] {
+        std::vector<std::pair<uint64_t, uint64_t>> v;  // (version, mesh hash)
+        for (int i = 0; i < c * c * c; ++i) {
+            const int x = i / (c * c), y = i / c % c, z = i % c;
+            v.push_back({poly.chunkVersion(x, y, z), canonicalMeshHash(poly.chunkMesh(x, y, z))});
+        }
+        return v;
+    };
+    std::mt19937 rng(8);
+    std::uniform_real_distribution<double> U(-14, 14);
+    for (int edit = 0; edit < 12; ++edit) {
+        const auto before = snapshot();
+        StrokeBuilder stroke(s, edit % 3 == 2 ? ToolOp::Carve : ToolOp::Add, 1 + edit % 2);
+        const EditResult r = stroke.addSample(Vec3(U(rng), U(rng), U(rng)));
+        poly.update(r.changedPoints, r.supportMm);
+        const auto after = snapshot();
+        for (size_t i = 0; i < after.size(); ++i)
+            if (after[i].second != before[i].second)
+                EXPECT_NE(after[i].first, before[i].first) << "edit " << edit << " chunk " << i;
+    }
+}
+
 TEST(Polygonizer, SameMeshAtAnyThreadCount) {
     SculptConfig cfg = emptyConfig(PlacementMode::Free);
     cfg.sphereRadiusMm = 25;

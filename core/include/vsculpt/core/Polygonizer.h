@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace vsculpt::core {
@@ -90,6 +91,11 @@ class Polygonizer {
         friend bool operator==(const BlockMesh&, const BlockMesh&) = default;
     };
 
+    /// The vertex on grid edge `key`, from the block that owns the edge (the one holding its
+    /// start vertex). Throws std::logic_error if missing: an invariant of the mesh.
+    const EdgeVertex& findVertex(uint64_t key) const;
+    void appendBlock(const BlockMesh& b, Mesh& m,
+                     std::unordered_map<uint64_t, uint32_t>& index) const;
     size_t blockIndex(int bx, int by, int bz) const {
         return (size_t(bx) * mBlocksPerAxis + by) * mBlocksPerAxis + bz;
     }

@@ -231,9 +231,40 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
         BlockMesh fresh;
         if (!culled[i]) buildBlock(b[0], b[1], b[2], fresh, evals.local());
         BlockMesh& slot = mBlocks[blockIndex(b[0], b[1], b[2])];
-        if (!(fresh == slot)) {
+        // Which neighbouring blocks see a difference: bit s (0..7) set when the blocks at
+        // offset -s (bit 0 = x, 1 = y, 2 = z) use something that changed. Bit 0: this block.
+        // Vertices it owns on its low faces are used by cells of the blocks below.
+        uint8_t what = fresh.triangles != slot.triangles ? 1 : 0;
+        const auto& a = fresh.vertices;
+        const auto& o = slot.vertices;
+        auto mark = [&](uint64_t key) {
+            what |= 1;
+            int low = 0;  // axes on which the vertex's start sits on the block's low face
+            constexpr uint64_t m = (uint64_t(1) << 20) - 1;
+            for (int axis = 0; axis < 3; ++axis) {
+                int64_t g = int64_t((key >> (20 * axis)) & m);
+                if (g >= (int64_t(1) << 19)) g -= int64_t(1) << 20;
+                if (g - mRegion.originCell[axis] == int64_t(b[axis]) * kBlockCells)
+                    low |= 1 << axis;
+            }
+            for (int sub = 1; sub < 8; ++sub)
+                if ((sub & low) == sub) what |= uint8_t(1u << sub);
+        };
+        size_t ia = 0, io = 0;  // both sorted by key: a merge finds what differs
+        while (ia < a.size() || io < o.size()) {
+            if (io == o.size() || (ia < a.size() && a[ia].key < o[io].key)) {
+                mark(a[ia++].key);
+            } else if (ia == a.size() || o[io].key < a[ia].key) {
+                mark(o[io++].key);
+            } else {
+                if (!(a[ia] == o[io])) mark(a[ia].key);
+                ++ia;
+                ++io;
+            }
+        }
+        if (what) {
             slot = std::move(fresh);
-            changed[i] = 1;
+            changed[i] = char(what);
         }
     };
     if (threaded)
@@ -252,10 +283,10 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
     for (size_t i = 0; i < blocks.size(); ++i) {
         stats.blocksCulled += culled[i];
         if (!changed[i]) continue;
-        // The block's own triangles, and its edges, which cells of the blocks just below it
-        // on each axis (and their diagonal neighbours) also use.
+        // The block's chunk, and the chunks of the blocks below it that use what changed.
         const auto& b = blocks[i];
         for (int s = 0; s < 8; ++s) {
+            if (!((uint8_t(changed[i]) >> s) & 1)) continue;
             const int x = b[0] - (s & 1), y = b[1] - ((s >> 1) & 1), z = b[2] - ((s >> 2) & 1);
             if (x < 0 || y < 0 || z < 0) continue;
             chunkChanged[(size_t(x / per) * c + y / per) * c + z / per] = 1;

@@ -246,7 +246,7 @@ void BM_EditLatency(benchmark::State& state) {
     for (int i = 0; i < 60; ++i)
         path.push_back(focus + Vec3((i - 30) * 0.25 * l.diameterMm, 0, 0.25 * l.diameterMm));
     std::vector<double> ms, updateMs, publishMs;
-    size_t evaluations = 0, blocks = 0;
+    size_t evaluations = 0, blocks = 0, chunks = 0;
     for (auto _ : state) {
         std::vector<SkeletonChange> changes;
         {
@@ -266,6 +266,7 @@ void BM_EditLatency(benchmark::State& state) {
                 publishMs.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
                 evaluations += st.evaluations;
                 blocks += st.blocksConsidered;
+                chunks += st.chunksChanged;
             }
             changes = stroke.takeChanges();
         }
@@ -284,6 +285,7 @@ void BM_EditLatency(benchmark::State& state) {
     state.counters["publish_p50_ms"] = pct(publishMs, 0.5);
     state.counters["evals_per_sample"] = double(evaluations) / double(ms.size());
     state.counters["blocks_per_sample"] = double(blocks) / double(ms.size());
+    state.counters["chunks_per_sample"] = double(chunks) / double(ms.size());
     state.counters["skeletons"] = double(s.counts().total());
 }
 BENCHMARK(BM_EditLatency)

@@ -10,7 +10,7 @@
 /// bisection to a tolerance; triangles face outward; vertices are shared per grid edge and
 /// carry normals from the field gradient.
 ///
-/// Work is organised in blocks of 4^3 cells (the unit of rebuilding) and chunks of 16^3
+/// Work is organised in blocks of 4^3 cells (the unit of rebuilding) and chunks of 8^3
 /// cells (the unit of publishing). Blocks the field provably cannot cross (LocalField
 /// bounds) cost no evaluations, so the cost follows the surface, not N^3. After an edit
 /// only the blocks touching the changed region are rebuilt, and the result equals a full
@@ -42,7 +42,7 @@ struct PolygonizeStats {
 class Polygonizer {
   public:
     static constexpr int kBlockCells = 4;
-    static constexpr int kChunkCells = 16;
+    static constexpr int kChunkCells = 8;
 
     /// @param relTolerance edge-root bisection tolerance as a fraction of the grid spacing
     /// @pre region.n is a multiple of 16; the grid's integer coordinates fit in +-2^19.

@@ -12,6 +12,9 @@ packages=(
   # exports (glTF writer), journal checksums, and the third-party loader the tests read
   # exports back with
   libtinygltf-dev zlib1g-dev libassimp-dev
+  # rendering: GLFW window and GL context, GL loader, PNG screenshots; Xvfb + Mesa (llvmpipe)
+  # give tests a real GL context on machines without a GPU
+  libglfw3-dev libepoxy-dev libpng-dev xvfb xauth libgl1-mesa-dri
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-format

@@ -47,6 +47,14 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
                      "Grid spacing in mm for exports and statistics (default: zoom 1's)")
         ->check(CLI::PositiveNumber);
     playCmd->add_flag("!--no-progress", play.progress, "No progress bar");
+    playCmd->add_option("--shot", play.shotPath,
+                        "Render the final frame with OpenGL to a PNG (needs a display; "
+                        "use xvfb-run on machines without one)");
+    playCmd->add_option("--stereo", play.stereo, "Stereo mode of --shot: mono, sbs or anaglyph")
+        ->check(CLI::IsMember({"mono", "sbs", "anaglyph"}))
+        ->capture_default_str();
+    playCmd->add_option("--shot-size", play.shotSize, "Size of --shot, WIDTHxHEIGHT")
+        ->capture_default_str();
 
     try {
         cli.parse(argc, argv);

@@ -3,6 +3,7 @@
 
 #include "vsculpt/app/Session.h"
 #include "vsculpt/core/ExportMesh.h"
+#include "vsculpt/render/Shot.h"
 
 #include <tbb/global_control.h>
 #include <unistd.h>
@@ -135,6 +136,22 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
             return 2;
         }
     }
+    render::ShotOptions shot;
+    if (!o.shotPath.empty()) {
+        try {
+            shot.mode = render::parseStereoMode(o.stereo);
+            int w = 0, h = 0;
+            char x = 0;
+            if (std::sscanf(o.shotSize.c_str(), "%d%c%d", &w, &x, &h) != 3 || x != 'x')
+                throw std::invalid_argument("--shot-size must be WIDTHxHEIGHT, got '" + o.shotSize +
+                                            "'");
+            shot.width = w;
+            shot.height = h;
+        } catch (const std::exception& e) {
+            err << "vsculpt play: error: " << e.what() << "\n";
+            return 2;
+        }
+    }
     std::unique_ptr<tbb::global_control> threads;
     if (o.threads > 0)
         threads = std::make_unique<tbb::global_control>(
@@ -202,6 +219,11 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
             ExportOptions eo;
             eo.voxelSizeMm = spacing;
             exportMesh(mesh, path, eo);
+        }
+        if (!o.shotPath.empty()) {
+            // The final frame: the mesh on show at the current zoom.
+            render::writePng(render::renderShot(session->view().mesh(), shot), o.shotPath);
+            out << "vsculpt play: wrote " << o.shotPath << " (" << o.stereo << ")\n";
         }
         const nlohmann::json stats = statsJson(*session, mesh, o, spacing);
         if (o.statsPath == "-") {

@@ -19,6 +19,9 @@ struct PlayOptions {
     std::string projectDir;            ///< "" = no project
     double exportSpacingMm = 0;        ///< grid spacing of exports and stats (0 = zoom 1's)
     bool progress = true;              ///< progress bar on a terminal
+    std::string shotPath;              ///< PNG of the final frame ("" = none)
+    std::string stereo = "mono";       ///< mono, sbs or anaglyph
+    std::string shotSize = "960x540";  ///< WIDTHxHEIGHT in pixels
 };
 
 /// Returns the exit code: 0 success, 1 runtime failure (check mismatch, export failure),

@@ -1,0 +1,275 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/render/Shot.h"
+
+#include <epoxy/gl.h>  // the GL loader, before anything that includes GL headers
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <png.h>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+namespace vsculpt::render {
+
+const char* toString(StereoMode m) {
+    switch (m) {
+        case StereoMode::Mono:
+            return "mono";
+        case StereoMode::SideBySide:
+            return "sbs";
+        case StereoMode::Anaglyph:
+            return "anaglyph";
+    }
+    return "?";
+}
+
+StereoMode parseStereoMode(const std::string& s) {
+    if (s == "mono") return StereoMode::Mono;
+    if (s == "sbs") return StereoMode::SideBySide;
+    if (s == "anaglyph") return StereoMode::Anaglyph;
+    throw std::invalid_argument("unknown stereo mode '" + s + "' (use mono, sbs or anaglyph)");
+}
+
+namespace {
+
+/// GLFW is global state: initialised once per process, terminated at exit.
+struct GlfwLibrary {
+    bool ok = false;
+    std::string error;
+    GlfwLibrary() {
+        glfwSetErrorCallback([](int, const char* d) { lastError() = d; });
+        ok = glfwInit() == GLFW_TRUE;
+        if (!ok) error = lastError();
+    }
+    ~GlfwLibrary() {
+        if (ok) glfwTerminate();
+    }
+    static std::string& lastError() {
+        static std::string e;
+        return e;
+    }
+};
+
+struct WindowDeleter {
+    void operator()(GLFWwindow* w) const { glfwDestroyWindow(w); }
+};
+using WindowPtr = std::unique_ptr<GLFWwindow, WindowDeleter>;
+
+GLuint compile(GLenum type, const char* src) {
+    const GLuint s = glCreateShader(type);
+    glShaderSource(s, 1, &src, nullptr);
+    glCompileShader(s);
+    GLint ok = 0;
+    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[1024];
+        glGetShaderInfoLog(s, sizeof log, nullptr, log);
+        throw RenderError(std::string("shader compile error: ") + log);
+    }
+    return s;
+}
+
+const char* kVertex = R"(#version 330 core
+layout(location = 0) in vec3 position;
+layout(location = 1) in vec3 normal;
+uniform mat4 clipFromWorld;
+uniform vec3 eye;
+out vec3 vNormal;
+out vec3 vToEye;
+void main() {
+    vNormal = normal;
+    vToEye = eye - position;
+    gl_Position = clipFromWorld * vec4(position, 1.0);
+})";
+
+const char* kFragment = R"(#version 330 core
+in vec3 vNormal;
+in vec3 vToEye;
+out vec4 color;
+void main() {
+    // Grey clay lit from the eye (a headlight) plus ambient: the same in every channel, so
+    // an anaglyph can carry one eye per channel.
+    vec3 n = normalize(vNormal);
+    float lambert = max(dot(n, normalize(vToEye)), 0.0);
+    float g = 0.18 + 0.72 * lambert;
+    color = vec4(g, g, g, 1.0);
+})";
+
+}  // namespace
+
+Image renderShot(const core::Mesh& mesh, const ShotOptions& o) {
+    if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192)
+        throw RenderError("image size must be between 16 and 8192 pixels per side");
+    static GlfwLibrary glfw;
+    if (!glfw.ok)
+        throw RenderError("cannot open a display for OpenGL (" + glfw.error +
+                          "); on a machine without one, run under xvfb-run");
+    glfwDefaultWindowHints();
+    glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+    WindowPtr window(glfwCreateWindow(64, 64, "vsculpt shot", nullptr, nullptr));
+    if (!window)
+        throw RenderError("cannot create an OpenGL 3.3 core context: " + GlfwLibrary::lastError());
+    glfwMakeContextCurrent(window.get());
+
+    // Offscreen target of the requested size.
+    GLuint fbo = 0, color = 0, depth = 0;
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glGenRenderbuffers(1, &color);
+    glBindRenderbuffer(GL_RENDERBUFFER, color);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, o.width, o.height);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color);
+    glGenRenderbuffers(1, &depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, o.width, o.height);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw RenderError("offscreen framebuffer incomplete");
+
+    const GLuint program = glCreateProgram();
+    glAttachShader(program, compile(GL_VERTEX_SHADER, kVertex));
+    glAttachShader(program, compile(GL_FRAGMENT_SHADER, kFragment));
+    glLinkProgram(program);
+
+    // Mesh upload (float positions and normals, 32-bit indices).
+    std::vector<float> vertexData;
+    vertexData.reserve(mesh.positions.size() * 6);
+    for (size_t i = 0; i < mesh.positions.size(); ++i) {
+        const core::Vec3 n = i < mesh.normals.size() ? mesh.normals[i] : core::Vec3(0, 0, 1);
+        for (double v :
+             {mesh.positions[i].x, mesh.positions[i].y, mesh.positions[i].z, n.x, n.y, n.z})
+            vertexData.push_back(float(v));
+    }
+    GLuint vao = 0, vbo = 0, ibo = 0;
+    glGenVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    glGenBuffers(1, &vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, vbo);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertexData.size() * sizeof(float)), vertexData.data(),
+                 GL_STATIC_DRAW);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
+                          reinterpret_cast<void*>(3 * sizeof(float)));
+    glEnableVertexAttribArray(1);
+    glGenBuffers(1, &ibo);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.indices.size() * sizeof(uint32_t)),
+                 mesh.indices.data(), GL_STATIC_DRAW);
+
+    // Camera: in front of the mesh (-y), looking +y, z up, fitting its bounding sphere.
+    const core::Aabb box = core::meshBounds(mesh);
+    const glm::dvec3 center = box.empty() ? glm::dvec3(0) : 0.5 * (box.min + box.max);
+    const double radius = box.empty() ? 50.0 : std::max(1.0, 0.5 * glm::length(box.max - box.min));
+    StereoDisplay d = o.display;
+    d.verticalFovDeg = 40;
+    const bool sbs = o.mode == StereoMode::SideBySide;
+    d.aspect = double(sbs ? o.width / 2 : o.width) / o.height;
+    const double halfFov = glm::radians(d.verticalFovDeg) * 0.5 * std::min(1.0, d.aspect);
+    const double distance = 1.1 * radius / std::sin(halfFov);
+    d.focalDistanceMm = distance;
+    d.nearMm = std::max(1.0, distance - 2 * radius);
+    d.farMm = distance + 2 * radius;
+    if (o.mode == StereoMode::Mono) d.ipdMm = 0;
+    glm::dmat4 worldFromHead(1.0);
+    worldFromHead[0] = glm::dvec4(1, 0, 0, 0);
+    worldFromHead[1] = glm::dvec4(0, 0, 1, 0);
+    worldFromHead[2] = glm::dvec4(0, -1, 0, 0);
+    worldFromHead[3] = glm::dvec4(center - glm::dvec3(0, distance, 0), 1);
+    const auto eyes = stereoEyes(worldFromHead, d);
+
+    glEnable(GL_DEPTH_TEST);
+    glClearColor(kBackground[0] / 255.f, kBackground[1] / 255.f, kBackground[2] / 255.f, 1.f);
+    glViewport(0, 0, o.width, o.height);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glUseProgram(program);
+    const GLint clipLoc = glGetUniformLocation(program, "clipFromWorld");
+    const GLint eyeLoc = glGetUniformLocation(program, "eye");
+    const int eyeCount = o.mode == StereoMode::Mono ? 1 : 2;
+    for (int e = 0; e < eyeCount; ++e) {
+        const EyeView& eye = eyes[size_t(e)];
+        if (sbs) glViewport(e == 0 ? 0 : o.width / 2, 0, o.width / 2, o.height);
+        if (o.mode == StereoMode::Anaglyph) {
+            // Left eye in red, right eye in green and blue (red/cyan glasses).
+            if (e == 0)
+                glColorMask(GL_TRUE, GL_FALSE, GL_FALSE, GL_TRUE);
+            else
+                glColorMask(GL_FALSE, GL_TRUE, GL_TRUE, GL_TRUE);
+            glClear(GL_DEPTH_BUFFER_BIT);
+        }
+        const glm::mat4 clip(eye.clipFromView * eye.viewFromWorld);
+        glUniformMatrix4fv(clipLoc, 1, GL_FALSE, glm::value_ptr(clip));
+        glUniform3f(eyeLoc, float(eye.worldPosition.x), float(eye.worldPosition.y),
+                    float(eye.worldPosition.z));
+        glDrawElements(GL_TRIANGLES, GLsizei(mesh.indices.size()), GL_UNSIGNED_INT, nullptr);
+    }
+    glFinish();
+    if (const GLenum err = glGetError(); err != GL_NO_ERROR) {
+        char hex[16];
+        std::snprintf(hex, sizeof hex, "0x%04x", err);
+        throw RenderError(std::string("OpenGL error ") + hex);
+    }
+
+    Image img;
+    img.width = o.width;
+    img.height = o.height;
+    img.rgba.resize(size_t(o.width) * o.height * 4);
+    std::vector<uint8_t> rows(img.rgba.size());
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, o.width, o.height, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
+    for (int y = 0; y < o.height; ++y)  // GL's first row is the bottom one
+        std::copy_n(rows.data() + size_t(o.height - 1 - y) * o.width * 4, size_t(o.width) * 4,
+                    img.rgba.data() + size_t(y) * o.width * 4);
+
+    glDeleteBuffers(1, &vbo);
+    glDeleteBuffers(1, &ibo);
+    glDeleteVertexArrays(1, &vao);
+    glDeleteProgram(program);
+    glDeleteRenderbuffers(1, &color);
+    glDeleteRenderbuffers(1, &depth);
+    glDeleteFramebuffers(1, &fbo);
+    glfwMakeContextCurrent(nullptr);
+    return img;
+}
+
+void writePng(const Image& image, const std::filesystem::path& path) {
+    const std::filesystem::path tmp = path.string() + ".part";
+    FILE* f = std::fopen(tmp.c_str(), "wb");
+    if (!f) throw RenderError(path.string() + ": cannot open for writing");
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+    png_infop info = png ? png_create_info_struct(png) : nullptr;
+    if (!png || !info || setjmp(png_jmpbuf(png))) {
+        png_destroy_write_struct(&png, &info);
+        std::fclose(f);
+        std::filesystem::remove(tmp);
+        throw RenderError(path.string() + ": PNG encoding failed");
+    }
+    png_init_io(png, f);
+    png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), 8,
+                 PNG_COLOR_TYPE_RGBA, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    for (int y = 0; y < image.height; ++y)
+        png_write_row(png, image.rgba.data() + size_t(y) * image.width * 4);
+    png_write_end(png, nullptr);
+    png_destroy_write_struct(&png, &info);
+    const bool ok = std::fflush(f) == 0;
+    std::fclose(f);
+    std::error_code ec;
+    if (ok) std::filesystem::rename(tmp, path, ec);
+    if (!ok || ec) {
+        std::filesystem::remove(tmp);
+        throw RenderError(path.string() + ": cannot write");
+    }
+}
+
+}  // namespace vsculpt::render

@@ -1,0 +1,105 @@
+// SPDX-License-Identifier: MIT
+// Real OpenGL under Xvfb + Mesa (ctest runs this binary through xvfb-run): screenshots in each
+// stereo mode, checked for content.
+#include "vsculpt/core/PlaceStroke.h"
+#include "vsculpt/core/Polygonizer.h"
+#include "vsculpt/core/Sculpture.h"
+#include "vsculpt/render/Shot.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+using namespace vsculpt;
+using namespace vsculpt::render;
+
+namespace {
+
+core::Mesh sculptureMesh() {
+    core::SculptConfig cfg;
+    cfg.sphereRadiusMm = 30;
+    cfg.polygonizer.gridN = 64;
+    core::Sculpture s(cfg);
+    core::applyStroke(s, core::ToolOp::Add, 5,
+                      std::vector<core::Vec3>{core::Vec3(-45, -10, 0), core::Vec3(45, -10, 10)});
+    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)), 0.125);
+    poly.rebuildAll();
+    return poly.mesh();
+}
+
+bool foreground(const uint8_t* p, int channel) {
+    return std::abs(int(p[channel]) - int(kBackground[channel])) > 12;
+}
+
+struct Coverage {
+    double fraction = 0, centroidX = 0;  ///< centroid in pixels from the region's left edge
+};
+
+Coverage coverage(const Image& img, int x0, int x1, int channel) {
+    Coverage c;
+    size_t n = 0;
+    double sx = 0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = x0; x < x1; ++x)
+            if (foreground(img.pixel(x, y), channel)) {
+                ++n;
+                sx += x - x0;
+            }
+    c.fraction = double(n) / (double(x1 - x0) * img.height);
+    c.centroidX = n ? sx / double(n) : 0;
+    return c;
+}
+
+TEST(Shot, MonoShowsTheSculptureInTheMiddle) {
+    ShotOptions o;
+    o.width = 320;
+    o.height = 240;
+    const Image img = renderShot(sculptureMesh(), o);
+    const Coverage c = coverage(img, 0, img.width, 0);
+    EXPECT_GT(c.fraction, 0.08);
+    EXPECT_LT(c.fraction, 0.8);
+    EXPECT_NEAR(c.centroidX, img.width / 2.0, img.width * 0.1);
+    const auto path = std::filesystem::temp_directory_path() / "vsculpt-shot-test.png";
+    writePng(img, path);
+    EXPECT_GT(std::filesystem::file_size(path), 1000u);
+    std::filesystem::remove(path);
+}
+
+TEST(Shot, SideBySideHalvesShowHorizontalParallax) {
+    ShotOptions o;
+    o.width = 640;
+    o.height = 240;
+    o.mode = StereoMode::SideBySide;
+    o.display.ipdMm = 63;
+    const Image img = renderShot(sculptureMesh(), o);
+    const Coverage left = coverage(img, 0, img.width / 2, 0);
+    const Coverage right = coverage(img, img.width / 2, img.width, 0);
+    EXPECT_GT(left.fraction, 0.08);
+    EXPECT_NEAR(left.fraction, right.fraction, 0.05);
+    // The visible front of the sculpture is nearer than the zero-parallax plane through its
+    // centre: crossed parallax, so the left eye sees it further right.
+    EXPECT_GT(left.centroidX, right.centroidX + 0.5);
+    size_t differ = 0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width / 2; ++x)
+            differ += img.pixel(x, y)[0] != img.pixel(x + img.width / 2, y)[0];
+    EXPECT_GT(differ, size_t(img.width / 2 * img.height / 200));
+}
+
+TEST(Shot, AnaglyphChannelsCarryDifferentEyes) {
+    ShotOptions o;
+    o.width = 320;
+    o.height = 240;
+    o.mode = StereoMode::Anaglyph;
+    o.display.ipdMm = 63;
+    const Image img = renderShot(sculptureMesh(), o);
+    const Coverage red = coverage(img, 0, img.width, 0);   // left eye
+    const Coverage cyan = coverage(img, 0, img.width, 1);  // right eye
+    EXPECT_GT(red.fraction, 0.08);
+    EXPECT_GT(cyan.fraction, 0.08);
+    EXPECT_GT(red.centroidX, cyan.centroidX + 0.5);
+    EXPECT_EQ(parseStereoMode("anaglyph"), StereoMode::Anaglyph);
+    EXPECT_THROW(parseStereoMode("3d"), std::invalid_argument);
+}
+
+}  // namespace

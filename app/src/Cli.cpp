@@ -2,6 +2,7 @@
 #include "vsculpt/app/Cli.h"
 
 #include "vsculpt/app/Play.h"
+#include "vsculpt/app/RenderStill.h"
 #include "vsculpt/app/Summary.h"
 #include "vsculpt/core/Config.h"
 #include "vsculpt/core/Sculpture.h"
@@ -56,6 +57,21 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     playCmd->add_option("--shot-size", play.shotSize, "Size of --shot, WIDTHxHEIGHT")
         ->capture_default_str();
 
+    RenderOptions still;
+    CLI::App* renderCmd = cli.add_subcommand(
+        "render", "Ray-trace a still of a script's or a project's sculpture (Embree)");
+    renderCmd->add_option("INPUT", still.input, "Playback script or project folder")->required();
+    renderCmd->add_option("--out", still.outPath, "PNG to write")->required();
+    renderCmd->add_option("--size", still.size, "Image size WIDTHxHEIGHT")->capture_default_str();
+    renderCmd->add_option("--samples", still.samples, "Ambient-occlusion rays per pixel")
+        ->check(CLI::Range(1, 1024))
+        ->capture_default_str();
+    renderCmd
+        ->add_option("--spacing", still.spacingMm,
+                     "Mesh grid spacing in mm (default: zoom 3's, for fine detail)")
+        ->check(CLI::PositiveNumber);
+    renderCmd->add_option("--config", still.configPath, "Config for a script");
+
     try {
         cli.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -64,6 +80,7 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     }
 
     if (*playCmd) return runPlay(play, out, err);
+    if (*renderCmd) return runRenderStill(still, out, err);
 
     try {
         const core::SculptConfig cfg = core::loadConfig(configPath);

@@ -165,25 +165,12 @@ Image renderShot(const core::Mesh& mesh, const ShotOptions& o) {
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.indices.size() * sizeof(uint32_t)),
                  mesh.indices.data(), GL_STATIC_DRAW);
 
-    // Camera: in front of the mesh (-y), looking +y, z up, fitting its bounding sphere.
     const core::Aabb box = core::meshBounds(mesh);
-    const glm::dvec3 center = box.empty() ? glm::dvec3(0) : 0.5 * (box.min + box.max);
-    const double radius = box.empty() ? 50.0 : std::max(1.0, 0.5 * glm::length(box.max - box.min));
     StereoDisplay d = o.display;
-    d.verticalFovDeg = 40;
     const bool sbs = o.mode == StereoMode::SideBySide;
-    d.aspect = double(sbs ? o.width / 2 : o.width) / o.height;
-    const double halfFov = glm::radians(d.verticalFovDeg) * 0.5 * std::min(1.0, d.aspect);
-    const double distance = 1.1 * radius / std::sin(halfFov);
-    d.focalDistanceMm = distance;
-    d.nearMm = std::max(1.0, distance - 2 * radius);
-    d.farMm = distance + 2 * radius;
+    const glm::dmat4 worldFromHead =
+        frameFromFront(box.min, box.max, double(sbs ? o.width / 2 : o.width) / o.height, d);
     if (o.mode == StereoMode::Mono) d.ipdMm = 0;
-    glm::dmat4 worldFromHead(1.0);
-    worldFromHead[0] = glm::dvec4(1, 0, 0, 0);
-    worldFromHead[1] = glm::dvec4(0, 0, 1, 0);
-    worldFromHead[2] = glm::dvec4(0, -1, 0, 0);
-    worldFromHead[3] = glm::dvec4(center - glm::dvec3(0, distance, 0), 1);
     const auto eyes = stereoEyes(worldFromHead, d);
 
     glEnable(GL_DEPTH_TEST);

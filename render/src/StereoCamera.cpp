@@ -3,6 +3,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -30,6 +31,26 @@ std::array<EyeView, 2> stereoEyes(const glm::dmat4& worldFromHead, const StereoD
         e.worldPosition = glm::dvec3(worldFromEye[3]);
     }
     return eyes;
+}
+
+glm::dmat4 frameFromFront(const glm::dvec3& boxMin, const glm::dvec3& boxMax, double aspect,
+                          StereoDisplay& d) {
+    const bool empty = boxMin.x > boxMax.x;
+    const glm::dvec3 center = empty ? glm::dvec3(0) : 0.5 * (boxMin + boxMax);
+    const double radius = empty ? 50.0 : std::max(1.0, 0.5 * glm::length(boxMax - boxMin));
+    d.verticalFovDeg = 40;
+    d.aspect = aspect;
+    const double halfFov = glm::radians(d.verticalFovDeg) * 0.5 * std::min(1.0, aspect);
+    const double distance = 1.1 * radius / std::sin(halfFov);
+    d.focalDistanceMm = distance;
+    d.nearMm = std::max(1.0, distance - 2 * radius);
+    d.farMm = distance + 2 * radius;
+    glm::dmat4 worldFromHead(1.0);
+    worldFromHead[0] = glm::dvec4(1, 0, 0, 0);   // head x: world x
+    worldFromHead[1] = glm::dvec4(0, 0, 1, 0);   // head up: world z
+    worldFromHead[2] = glm::dvec4(0, -1, 0, 0);  // head looks down -z: world +y
+    worldFromHead[3] = glm::dvec4(center - glm::dvec3(0, distance, 0), 1);
+    return worldFromHead;
 }
 
 glm::dvec3 projectToNdc(const EyeView& eye, const glm::dvec3& p) {

@@ -34,6 +34,12 @@ enum class Eye { Left = 0, Right = 1 };
 /// eyes) in the world. A mono view is the same with ipdMm = 0.
 std::array<EyeView, 2> stereoEyes(const glm::dmat4& worldFromHead, const StereoDisplay& display);
 
+/// The head pose and display that frame a box from the front (-y looking +y, z up): the
+/// box's bounding sphere fits the view, and the zero-parallax plane passes through its
+/// centre. `display` keeps its IPD; its fov, aspect, focal distance and clip planes are set.
+glm::dmat4 frameFromFront(const glm::dvec3& boxMin, const glm::dvec3& boxMax, double aspect,
+                          StereoDisplay& display);
+
 /// Where a world point lands in an eye's normalised device coordinates (x, y in [-1, 1] on
 /// screen, z depth).
 glm::dvec3 projectToNdc(const EyeView& eye, const glm::dvec3& worldPoint);

@@ -1,0 +1,72 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/app/RenderStill.h"
+
+#include "vsculpt/app/Session.h"
+#include "vsculpt/render/RayTrace.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <ostream>
+
+namespace vsculpt::app {
+
+int runRenderStill(const RenderOptions& o, std::ostream& out, std::ostream& err) {
+    int w = 0, h = 0;
+    char x = 0;
+    if (std::sscanf(o.size.c_str(), "%d%c%d", &w, &x, &h) != 3 || x != 'x') {
+        err << "vsculpt render: error: --size must be WIDTHxHEIGHT, got '" << o.size << "'\n";
+        return 2;
+    }
+    std::unique_ptr<Session> session;
+    try {
+        if (std::filesystem::is_directory(o.input)) {
+            if (!std::filesystem::exists(core::snapshotPath(o.input))) {
+                err << "vsculpt render: error: " << o.input << ": not a vsculpt project\n";
+                return 2;
+            }
+            session = Session::openProject(o.input, core::SculptConfig{});
+        } else {
+            const Script script = loadScript(o.input);
+            session = std::make_unique<Session>(
+                core::loadConfig(o.configPath.empty() ? core::defaultConfigPath()
+                                                      : std::filesystem::path(o.configPath)));
+            for (const ScriptCommand& c : script.commands) {
+                try {
+                    session->apply(c);
+                } catch (const std::exception& e) {
+                    err << "vsculpt render: error: " << script.source << ":" << c.line << ": "
+                        << e.what() << "\n";
+                    return 2;
+                }
+            }
+        }
+    } catch (const std::exception& e) {
+        err << "vsculpt render: error: " << e.what() << "\n";
+        return 2;
+    }
+    try {
+        const auto t0 = std::chrono::steady_clock::now();
+        const double spacing = o.spacingMm > 0
+                                   ? o.spacingMm
+                                   : core::zoomSpacing(session->sculpture().config(),
+                                                       session->sculpture().levels(), 3);
+        const core::Mesh mesh = session->wholeMesh(spacing);
+        render::RayTraceOptions ro;
+        ro.width = w;
+        ro.height = h;
+        ro.aoSamples = o.samples;
+        ro.shadowSamples = std::max(1, o.samples / 2);
+        render::writePng(render::rayTrace(mesh, ro), o.outPath);
+        const double s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        out << "vsculpt render: wrote " << o.outPath << " (" << w << "x" << h << ", "
+            << mesh.triangleCount() << " triangles at " << spacing << " mm, " << s << " s)\n";
+    } catch (const std::exception& e) {
+        err << "vsculpt render: error: " << e.what() << "\n";
+        return 1;
+    }
+    return 0;
+}
+
+}  // namespace vsculpt::app

@@ -1,10 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/render/Shot.h"
 
-#include <epoxy/gl.h>  // the GL loader, before anything that includes GL headers
+#include "GlCommon.h"
 
-#define GLFW_INCLUDE_NONE
-#include <GLFW/glfw3.h>
 #include <png.h>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -34,90 +32,10 @@ StereoMode parseStereoMode(const std::string& s) {
     throw std::invalid_argument("unknown stereo mode '" + s + "' (use mono, sbs or anaglyph)");
 }
 
-namespace {
-
-/// GLFW is global state: initialised once per process, terminated at exit.
-struct GlfwLibrary {
-    bool ok = false;
-    std::string error;
-    GlfwLibrary() {
-        glfwSetErrorCallback([](int, const char* d) { lastError() = d; });
-        ok = glfwInit() == GLFW_TRUE;
-        if (!ok) error = lastError();
-    }
-    ~GlfwLibrary() {
-        if (ok) glfwTerminate();
-    }
-    static std::string& lastError() {
-        static std::string e;
-        return e;
-    }
-};
-
-struct WindowDeleter {
-    void operator()(GLFWwindow* w) const { glfwDestroyWindow(w); }
-};
-using WindowPtr = std::unique_ptr<GLFWwindow, WindowDeleter>;
-
-GLuint compile(GLenum type, const char* src) {
-    const GLuint s = glCreateShader(type);
-    glShaderSource(s, 1, &src, nullptr);
-    glCompileShader(s);
-    GLint ok = 0;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[1024];
-        glGetShaderInfoLog(s, sizeof log, nullptr, log);
-        throw RenderError(std::string("shader compile error: ") + log);
-    }
-    return s;
-}
-
-const char* kVertex = R"(#version 330 core
-layout(location = 0) in vec3 position;
-layout(location = 1) in vec3 normal;
-uniform mat4 clipFromWorld;
-uniform vec3 eye;
-out vec3 vNormal;
-out vec3 vToEye;
-void main() {
-    vNormal = normal;
-    vToEye = eye - position;
-    gl_Position = clipFromWorld * vec4(position, 1.0);
-})";
-
-const char* kFragment = R"(#version 330 core
-in vec3 vNormal;
-in vec3 vToEye;
-out vec4 color;
-void main() {
-    // Grey clay lit from the eye (a headlight) plus ambient: the same in every channel, so
-    // an anaglyph can carry one eye per channel.
-    vec3 n = normalize(vNormal);
-    float lambert = max(dot(n, normalize(vToEye)), 0.0);
-    float g = 0.18 + 0.72 * lambert;
-    color = vec4(g, g, g, 1.0);
-})";
-
-}  // namespace
-
 Image renderShot(const core::Mesh& mesh, const ShotOptions& o) {
     if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192)
         throw RenderError("image size must be between 16 and 8192 pixels per side");
-    static GlfwLibrary glfw;
-    if (!glfw.ok)
-        throw RenderError("cannot open a display for OpenGL (" + glfw.error +
-                          "); on a machine without one, run under xvfb-run");
-    glfwDefaultWindowHints();
-    glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
-    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
-    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
-    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-    WindowPtr window(glfwCreateWindow(64, 64, "vsculpt shot", nullptr, nullptr));
-    if (!window)
-        throw RenderError("cannot create an OpenGL 3.3 core context: " + GlfwLibrary::lastError());
-    glfwMakeContextCurrent(window.get());
+    const detail::WindowPtr window = detail::createWindow(64, 64, "vsculpt shot", false);
 
     // Offscreen target of the requested size.
     GLuint fbo = 0, color = 0, depth = 0;
@@ -134,10 +52,7 @@ Image renderShot(const core::Mesh& mesh, const ShotOptions& o) {
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
         throw RenderError("offscreen framebuffer incomplete");
 
-    const GLuint program = glCreateProgram();
-    glAttachShader(program, compile(GL_VERTEX_SHADER, kVertex));
-    glAttachShader(program, compile(GL_FRAGMENT_SHADER, kFragment));
-    glLinkProgram(program);
+    const GLuint program = detail::clayProgram();
 
     // Mesh upload (float positions and normals, 32-bit indices).
     std::vector<float> vertexData;
@@ -181,6 +96,10 @@ Image renderShot(const core::Mesh& mesh, const ShotOptions& o) {
     glUseProgram(program);
     const GLint clipLoc = glGetUniformLocation(program, "clipFromWorld");
     const GLint eyeLoc = glGetUniformLocation(program, "eye");
+    const glm::mat4 identity(1.f);
+    glUniformMatrix4fv(glGetUniformLocation(program, "worldFromObject"), 1, GL_FALSE,
+                       glm::value_ptr(identity));
+    glUniform3f(glGetUniformLocation(program, "tint"), 1.f, 1.f, 1.f);
     const int eyeCount = o.mode == StereoMode::Mono ? 1 : 2;
     for (int e = 0; e < eyeCount; ++e) {
         const EyeView& eye = eyes[size_t(e)];
@@ -200,11 +119,7 @@ Image renderShot(const core::Mesh& mesh, const ShotOptions& o) {
         glDrawElements(GL_TRIANGLES, GLsizei(mesh.indices.size()), GL_UNSIGNED_INT, nullptr);
     }
     glFinish();
-    if (const GLenum err = glGetError(); err != GL_NO_ERROR) {
-        char hex[16];
-        std::snprintf(hex, sizeof hex, "0x%04x", err);
-        throw RenderError(std::string("OpenGL error ") + hex);
-    }
+    detail::checkGl("renderShot");
 
     Image img;
     img.width = o.width;

@@ -131,3 +131,47 @@ TEST(Shot, RayTracedSilhouetteMatchesTheRasterizedOne) {
 }
 
 }  // namespace
+
+#include "vsculpt/render/Viewer.h"
+
+namespace {
+
+// The window's renderer keeps chunks on the GPU and re-uploads only those an edit changed.
+TEST(Viewer, DrawsChunksAndReuploadsOnlyChangedOnes) {
+    core::SculptConfig cfg;
+    cfg.sphereRadiusMm = 30;
+    cfg.polygonizer.gridN = 64;
+    core::Sculpture s(cfg);
+    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)), 0.125);
+    poly.rebuildAll();
+    Viewer viewer(320, 240, "test", false);
+    const size_t first = viewer.syncChunks(poly);
+    EXPECT_GT(first, 10u);
+    EXPECT_EQ(viewer.syncChunks(poly), 0u);  // nothing changed
+    ToolDraw tool;
+    tool.worldPos = core::Vec3(0, -45, 0);
+    tool.radiusMm = 7.5;
+    const FrameStats st = viewer.draw(glm::dmat4(1.0), core::meshBounds(poly.mesh()), tool,
+                                      StereoMode::Mono, StereoDisplay{});
+    EXPECT_EQ(st.chunksDrawn, first);
+    EXPECT_EQ(st.triangles, poly.mesh().triangleCount());
+    const Image img = viewer.readFrame();
+    size_t fg = 0, green = 0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            const uint8_t* p = img.pixel(x, y);
+            fg += foreground(p, 0);
+            green += p[1] > p[0] + 40;  // the tool, in the air: green
+        }
+    EXPECT_GT(fg, size_t(img.width * img.height / 12));
+    EXPECT_GT(green, 20u);
+    // A small edit: a few chunks re-uploaded, not all.
+    core::StrokeBuilder stroke(s, core::ToolOp::Add, 5);
+    const core::EditResult r = stroke.addSample(core::Vec3(0, 0, 32));
+    poly.update(r.changedPoints, r.supportMm);
+    const size_t again = viewer.syncChunks(poly);
+    EXPECT_GT(again, 0u);
+    EXPECT_LT(again, first / 2);
+}
+
+}  // namespace

@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: MIT
+/// @file Viewer.h
+/// @brief The sculpting window's drawing side: a GLFW window with an OpenGL 3.3 core
+/// context that keeps the polygonizer's chunks on the GPU (re-uploading only chunks whose
+/// version changed) and draws them with the tool, in mono, side-by-side or anaglyph stereo.
+/// Input is collected as events for the application to map (bindings live in app/).
+#pragma once
+
+#include "vsculpt/core/Polygonizer.h"
+#include "vsculpt/render/Shot.h"
+#include "vsculpt/render/StereoCamera.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+struct GLFWwindow;
+
+namespace vsculpt::render {
+
+struct InputEvent {
+    enum class Kind { Key, MouseButton, Cursor, Scroll, Close };
+    Kind kind = Kind::Key;
+    int code = 0;  ///< GLFW key or mouse button
+    bool pressed = false;
+    double x = 0, y = 0;  ///< cursor position in pixels, or scroll offsets
+};
+
+struct ToolDraw {
+    bool visible = true;
+    core::Vec3 worldPos{0.0};
+    double radiusMm = 5;
+    /// 0 = in the air, 1 = touching the surface, 2 = inside the material (contact cue).
+    int contact = 0;
+    bool selectBox = false;  ///< the region-select tool is drawn as a cube
+};
+
+struct FrameStats {
+    size_t chunksUploaded = 0, chunksDrawn = 0, triangles = 0;
+    double cpuMs = 0;  ///< CPU time spent in draw() (upload + draw calls)
+};
+
+class Viewer {
+  public:
+    /// Opens the window (hidden when `visible` is false, e.g. for tests). Throws RenderError
+    /// when there is no display.
+    Viewer(int width, int height, const std::string& title, bool visible);
+    ~Viewer();
+    Viewer(const Viewer&) = delete;
+    Viewer& operator=(const Viewer&) = delete;
+
+    /// Events since the last call (polls the window system).
+    std::vector<InputEvent> pollEvents();
+    void setTitle(const std::string& title);
+    int width() const;
+    int height() const;
+
+    /// Uploads the chunks whose version changed since the last sync; drops chunks of a
+    /// previous polygonizer (zoom change) automatically.
+    size_t syncChunks(const core::Polygonizer& view);
+    /// Draws the scene. `worldFromObject`: the sculpture's pose; the camera frames `focus`
+    /// (object space) at `distanceMm`.
+    FrameStats draw(const glm::dmat4& worldFromObject, const core::Aabb& frameBox,
+                    const ToolDraw& tool, StereoMode mode, const StereoDisplay& display);
+    void swap();
+    Image readFrame();
+
+    /// The world-space ray through a window pixel, for the current mono camera.
+    void pixelRay(double x, double y, core::Vec3& origin, core::Vec3& dir) const;
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> mImpl;
+};
+
+}  // namespace vsculpt::render

@@ -1,0 +1,296 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/render/Viewer.h"
+
+#include "GlCommon.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <utility>
+
+namespace vsculpt::render {
+
+namespace {
+
+struct GpuMesh {
+    GLuint vao = 0, vbo = 0, ibo = 0;
+    GLsizei count = 0;
+    uint64_t version = 0;
+    void release() {
+        if (vbo) glDeleteBuffers(1, &vbo);
+        if (ibo) glDeleteBuffers(1, &ibo);
+        if (vao) glDeleteVertexArrays(1, &vao);
+        *this = GpuMesh{};
+    }
+    void upload(const core::Mesh& m) {
+        if (!vao) {
+            glGenVertexArrays(1, &vao);
+            glGenBuffers(1, &vbo);
+            glGenBuffers(1, &ibo);
+        }
+        std::vector<float> data;
+        data.reserve(m.positions.size() * 6);
+        for (size_t i = 0; i < m.positions.size(); ++i) {
+            const core::Vec3 n = i < m.normals.size() ? m.normals[i] : core::Vec3(0, 0, 1);
+            for (double v : {m.positions[i].x, m.positions[i].y, m.positions[i].z, n.x, n.y, n.z})
+                data.push_back(float(v));
+        }
+        glBindVertexArray(vao);
+        glBindBuffer(GL_ARRAY_BUFFER, vbo);
+        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(float)), data.data(),
+                     GL_STATIC_DRAW);
+        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+        glEnableVertexAttribArray(0);
+        glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
+                              reinterpret_cast<void*>(3 * sizeof(float)));
+        glEnableVertexAttribArray(1);
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(m.indices.size() * sizeof(uint32_t)),
+                     m.indices.data(), GL_STATIC_DRAW);
+        count = GLsizei(m.indices.size());
+    }
+    void draw() const {
+        if (!count) return;
+        glBindVertexArray(vao);
+        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
+    }
+};
+
+/// A unit sphere (for the tool), latitude-longitude.
+core::Mesh unitSphere(int rings, int segments) {
+    core::Mesh m;
+    for (int r = 0; r <= rings; ++r) {
+        const double th = std::numbers::pi * r / rings;
+        for (int s = 0; s <= segments; ++s) {
+            const double ph = 2 * std::numbers::pi * s / segments;
+            const core::Vec3 p(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph),
+                               std::cos(th));
+            m.positions.push_back(p);
+            m.normals.push_back(p);
+        }
+    }
+    for (int r = 0; r < rings; ++r)
+        for (int s = 0; s < segments; ++s) {
+            const uint32_t a = uint32_t(r * (segments + 1) + s), b = a + uint32_t(segments + 1);
+            for (uint32_t i : {a, b, a + 1, a + 1, b, b + 1})
+                m.indices.push_back(i);
+        }
+    return m;
+}
+
+}  // namespace
+
+struct Viewer::Impl {
+    detail::WindowPtr window;
+    GLuint program = 0;
+    GLint clipLoc = -1, worldFromObjectLoc = -1, eyeLoc = -1, tintLoc = -1;
+    const core::Polygonizer* view = nullptr;
+    core::GridRegion region;
+    std::map<std::array<int, 3>, GpuMesh> chunks;
+    GpuMesh sphere;
+    std::vector<InputEvent> events;
+    EyeView monoEye;
+};
+
+Viewer::Viewer(int width, int height, const std::string& title, bool visible)
+    : mImpl(std::make_unique<Impl>()) {
+    mImpl->window = detail::createWindow(width, height, title, visible);
+    GLFWwindow* w = mImpl->window.get();
+    glfwSetWindowUserPointer(w, mImpl.get());
+    glfwSetKeyCallback(w, [](GLFWwindow* win, int key, int, int action, int) {
+        if (action == GLFW_REPEAT) return;
+        static_cast<Impl*>(glfwGetWindowUserPointer(win))
+            ->events.push_back({InputEvent::Kind::Key, key, action == GLFW_PRESS, 0, 0});
+    });
+    glfwSetMouseButtonCallback(w, [](GLFWwindow* win, int button, int action, int) {
+        static_cast<Impl*>(glfwGetWindowUserPointer(win))
+            ->events.push_back({InputEvent::Kind::MouseButton, button, action == GLFW_PRESS, 0, 0});
+    });
+    glfwSetCursorPosCallback(w, [](GLFWwindow* win, double x, double y) {
+        static_cast<Impl*>(glfwGetWindowUserPointer(win))
+            ->events.push_back({InputEvent::Kind::Cursor, 0, false, x, y});
+    });
+    glfwSetScrollCallback(w, [](GLFWwindow* win, double dx, double dy) {
+        static_cast<Impl*>(glfwGetWindowUserPointer(win))
+            ->events.push_back({InputEvent::Kind::Scroll, 0, false, dx, dy});
+    });
+    mImpl->program = detail::clayProgram();
+    mImpl->clipLoc = glGetUniformLocation(mImpl->program, "clipFromWorld");
+    mImpl->worldFromObjectLoc = glGetUniformLocation(mImpl->program, "worldFromObject");
+    mImpl->eyeLoc = glGetUniformLocation(mImpl->program, "eye");
+    mImpl->tintLoc = glGetUniformLocation(mImpl->program, "tint");
+    mImpl->sphere.upload(unitSphere(16, 32));
+    glfwSwapInterval(0);
+    detail::checkGl("Viewer setup");
+}
+
+Viewer::~Viewer() {
+    if (!mImpl->window) return;
+    glfwMakeContextCurrent(mImpl->window.get());
+    for (auto& [k, c] : mImpl->chunks)
+        c.release();
+    mImpl->sphere.release();
+    glDeleteProgram(mImpl->program);
+}
+
+std::vector<InputEvent> Viewer::pollEvents() {
+    glfwPollEvents();
+    if (glfwWindowShouldClose(mImpl->window.get())) {
+        mImpl->events.push_back({InputEvent::Kind::Close, 0, true, 0, 0});
+        glfwSetWindowShouldClose(mImpl->window.get(), GLFW_FALSE);
+    }
+    return std::exchange(mImpl->events, {});
+}
+
+void Viewer::setTitle(const std::string& title) {
+    glfwSetWindowTitle(mImpl->window.get(), title.c_str());
+}
+
+int Viewer::width() const {
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(mImpl->window.get(), &w, &h);
+    return w;
+}
+
+int Viewer::height() const {
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(mImpl->window.get(), &w, &h);
+    return h;
+}
+
+size_t Viewer::syncChunks(const core::Polygonizer& view) {
+    if (mImpl->view != &view || !(mImpl->region == view.region())) {
+        for (auto& [k, c] : mImpl->chunks)
+            c.release();
+        mImpl->chunks.clear();
+        mImpl->view = &view;
+        mImpl->region = view.region();
+    }
+    size_t uploads = 0;
+    const int n = view.chunksPerAxis();
+    for (int x = 0; x < n; ++x)
+        for (int y = 0; y < n; ++y)
+            for (int z = 0; z < n; ++z) {
+                const uint64_t version = view.chunkVersion(x, y, z);
+                if (version == 0) continue;  // never had triangles
+                auto it = mImpl->chunks.find({x, y, z});
+                if (it != mImpl->chunks.end() && it->second.version == version) continue;
+                GpuMesh& g = mImpl->chunks[{x, y, z}];
+                g.upload(view.chunkMesh(x, y, z));
+                g.version = version;
+                ++uploads;
+            }
+    return uploads;
+}
+
+FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& frameBox,
+                        const ToolDraw& tool, StereoMode mode, const StereoDisplay& displayIn) {
+    const auto t0 = std::chrono::steady_clock::now();
+    FrameStats stats;
+    const int w = width(), h = height();
+    StereoDisplay d = displayIn;
+    const bool sbs = mode == StereoMode::SideBySide;
+    // The camera frames the box (in world space after the object's pose).
+    const glm::dvec3 c =
+        glm::dvec3(worldFromObject * glm::dvec4(0.5 * (frameBox.min + frameBox.max), 1));
+    const glm::dvec3 half = 0.5 * (frameBox.max - frameBox.min);
+    const glm::dmat4 worldFromHead =
+        frameFromFront(c - half, c + half, double(sbs ? w / 2 : w) / std::max(1, h), d);
+    if (mode == StereoMode::Mono) d.ipdMm = 0;
+    const auto eyes = stereoEyes(worldFromHead, d);
+    {
+        StereoDisplay mono = d;
+        mono.ipdMm = 0;
+        mono.aspect = double(w) / std::max(1, h);
+        mImpl->monoEye = stereoEyes(worldFromHead, mono)[0];
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, w, h);
+    glEnable(GL_DEPTH_TEST);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glClearColor(kBackground[0] / 255.f, kBackground[1] / 255.f, kBackground[2] / 255.f, 1.f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glUseProgram(mImpl->program);
+    const glm::mat4 object(worldFromObject);
+    for (int e = 0; e < (mode == StereoMode::Mono ? 1 : 2); ++e) {
+        const EyeView& eye = eyes[size_t(e)];
+        if (sbs) glViewport(e == 0 ? 0 : w / 2, 0, w / 2, h);
+        if (mode == StereoMode::Anaglyph) {
+            if (e == 0)
+                glColorMask(GL_TRUE, GL_FALSE, GL_FALSE, GL_TRUE);
+            else
+                glColorMask(GL_FALSE, GL_TRUE, GL_TRUE, GL_TRUE);
+            glClear(GL_DEPTH_BUFFER_BIT);
+        }
+        const glm::mat4 clip(eye.clipFromView * eye.viewFromWorld);
+        glUniformMatrix4fv(mImpl->clipLoc, 1, GL_FALSE, glm::value_ptr(clip));
+        glUniform3f(mImpl->eyeLoc, float(eye.worldPosition.x), float(eye.worldPosition.y),
+                    float(eye.worldPosition.z));
+        glUniformMatrix4fv(mImpl->worldFromObjectLoc, 1, GL_FALSE, glm::value_ptr(object));
+        glUniform3f(mImpl->tintLoc, 1.f, 1.f, 1.f);
+        for (const auto& [k, g] : mImpl->chunks) {
+            g.draw();
+            if (e == 0) {
+                ++stats.chunksDrawn;
+                stats.triangles += size_t(g.count / 3);
+            }
+        }
+        if (tool.visible) {
+            // Contact cue: green in the air, yellow touching, red inside the material.
+            const glm::vec3 tint = tool.contact == 0   ? glm::vec3(0.45f, 1.0f, 0.5f)
+                                   : tool.contact == 1 ? glm::vec3(1.0f, 0.9f, 0.3f)
+                                                       : glm::vec3(1.0f, 0.35f, 0.3f);
+            const glm::mat4 toolM =
+                glm::scale(glm::translate(glm::mat4(1.f), glm::vec3(tool.worldPos)),
+                           glm::vec3(float(tool.radiusMm)));
+            glUniformMatrix4fv(mImpl->worldFromObjectLoc, 1, GL_FALSE, glm::value_ptr(toolM));
+            glUniform3fv(mImpl->tintLoc, 1, glm::value_ptr(tint));
+            if (tool.selectBox) glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+            mImpl->sphere.draw();
+            glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+        }
+    }
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    detail::checkGl("Viewer::draw");
+    stats.cpuMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return stats;
+}
+
+void Viewer::swap() {
+    glfwSwapBuffers(mImpl->window.get());
+}
+
+Image Viewer::readFrame() {
+    Image img;
+    img.width = width();
+    img.height = height();
+    img.rgba.resize(size_t(img.width) * img.height * 4);
+    std::vector<uint8_t> rows(img.rgba.size());
+    glFinish();
+    glReadBuffer(GL_BACK);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
+    for (int y = 0; y < img.height; ++y)
+        std::copy_n(rows.data() + size_t(img.height - 1 - y) * img.width * 4, size_t(img.width) * 4,
+                    img.rgba.data() + size_t(y) * img.width * 4);
+    return img;
+}
+
+void Viewer::pixelRay(double x, double y, core::Vec3& origin, core::Vec3& dir) const {
+    int w = 0, h = 0;
+    glfwGetWindowSize(mImpl->window.get(), &w, &h);
+    const glm::dmat4 worldFromClip =
+        glm::inverse(mImpl->monoEye.clipFromView * mImpl->monoEye.viewFromWorld);
+    const double nx = (x + 0.5) / std::max(1, w) * 2 - 1, ny = 1 - (y + 0.5) / std::max(1, h) * 2;
+    const glm::dvec4 pn = worldFromClip * glm::dvec4(nx, ny, -1, 1);
+    const glm::dvec4 pf = worldFromClip * glm::dvec4(nx, ny, 1, 1);
+    origin = core::Vec3(pn) / pn.w;
+    dir = glm::normalize(core::Vec3(pf) / pf.w - origin);
+}
+
+}  // namespace vsculpt::render

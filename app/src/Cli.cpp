@@ -4,6 +4,7 @@
 #include "vsculpt/app/Play.h"
 #include "vsculpt/app/RenderStill.h"
 #include "vsculpt/app/Summary.h"
+#include "vsculpt/app/Window.h"
 #include "vsculpt/core/Config.h"
 #include "vsculpt/core/Sculpture.h"
 
@@ -18,14 +19,28 @@ namespace vsculpt::app {
 int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
     CLI::App cli{
         "vsculpt - immersive virtual-sculpting modeler.\n"
-        "Without a subcommand it builds the initial sculpture from the config and prints a\n"
-        "summary (tool levels, calibration, initial shape and its mesh). `vsculpt play` runs a\n"
-        "playback script headless (docs/playback.md). The sculpting window and device input\n"
-        "are not built yet: see README.md, 'What works'."};
+        "Without a subcommand it opens the sculpting window (docs/window.md: mouse and keys\n"
+        "stand in for the pen and the 3D mouse); without a display it says so and prints the\n"
+        "summary of `vsculpt info`. `vsculpt play` runs a playback script headless\n"
+        "(docs/playback.md), `vsculpt render` ray-traces a still. Device input (trackers, 3D\n"
+        "mice, tablets) is not built yet: see README.md."};
     cli.set_version_flag("--version", "vsculpt 0.1.0");
     std::string configPath = core::defaultConfigPath().string();
     cli.add_option("--config", configPath, "Config file (JSON with comments; docs/config.md)")
         ->capture_default_str();
+
+    WindowOptions window;
+    cli.add_option("--stereo", window.stereo, "Window stereo mode: mono, sbs or anaglyph")
+        ->check(CLI::IsMember({"mono", "sbs", "anaglyph"}))
+        ->capture_default_str();
+    cli.add_option("--frames", window.frames, "Close the window after N frames (0: never)")
+        ->check(CLI::NonNegativeNumber);
+    cli.add_option("--play", window.playScript,
+                   "Run a playback script in the window, a command per frame");
+    cli.add_option("--shot", window.shotPath, "With --frames: save the last frame as PNG");
+    cli.add_flag("--hidden", window.hidden, "Do not show the window (automated runs)");
+    CLI::App* infoCmd = cli.add_subcommand(
+        "info", "Print the initial sculpture's summary: tool levels, calibration, mesh");
 
     PlayOptions play;
     CLI::App* playCmd = cli.add_subcommand(
@@ -81,6 +96,12 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
 
     if (*playCmd) return runPlay(play, out, err);
     if (*renderCmd) return runRenderStill(still, out, err);
+    if (!*infoCmd) {
+        window.configPath = configPath == core::defaultConfigPath().string() ? "" : configPath;
+        const int code = runWindow(window, out, err);
+        if (code != 1) return code;
+        // No display: the summary is the headless main job.
+    }
 
     try {
         const core::SculptConfig cfg = core::loadConfig(configPath);

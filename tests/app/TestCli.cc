@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <sstream>
 #include <vector>
 
@@ -20,8 +21,8 @@ CliRun run(std::vector<const char*> args) {
     return {code, out.str(), err.str()};
 }
 
-TEST(Cli, DefaultRunPrintsTheInitialSculpture) {
-    const CliRun r = run({});
+TEST(Cli, InfoPrintsTheInitialSculpture) {
+    const CliRun r = run({"info"});
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("placement mode: free"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("support calibrated"), std::string::npos) << r.out;
@@ -31,11 +32,22 @@ TEST(Cli, DefaultRunPrintsTheInitialSculpture) {
         EXPECT_NE(r.out.find(row), std::string::npos);
 }
 
+TEST(Cli, WithoutADisplayTheDefaultRunSaysSoAndPrintsTheSummary) {
+    ::unsetenv("DISPLAY");
+    ::unsetenv("WAYLAND_DISPLAY");
+    const CliRun r = run({});
+    EXPECT_EQ(r.code, 0);
+    EXPECT_NE(r.err.find("no sculpting window"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("vsculpt play"), std::string::npos) << r.err;
+    EXPECT_NE(r.out.find("initial sphere: radius 40.000 mm"), std::string::npos) << r.out;
+}
+
 TEST(Cli, HelpTellsTheOptions) {
     const CliRun r = run({"--help"});
     EXPECT_EQ(r.code, 0);
     EXPECT_NE(r.out.find("--config"), std::string::npos);
     EXPECT_NE(r.out.find("not built yet"), std::string::npos);
+    EXPECT_NE(r.out.find("--stereo"), std::string::npos);
 }
 
 TEST(Cli, BadArgumentsAndConfigsExitWithTwo) {

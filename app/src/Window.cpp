@@ -1,0 +1,204 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/app/Window.h"
+
+#include "vsculpt/app/Interaction.h"
+#include "vsculpt/app/Session.h"
+#include "vsculpt/core/EvalField.h"
+#include "vsculpt/render/Viewer.h"
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>  // key and button codes only
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <ostream>
+
+namespace vsculpt::app {
+
+using namespace vsculpt::core;
+
+namespace {
+
+const char* toolName(ToolKind t) {
+    return t == ToolKind::Add ? "add" : t == ToolKind::Carve ? "carve" : "select";
+}
+
+}  // namespace
+
+int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
+    SculptConfig cfg;
+    render::StereoMode mode;
+    Script script;
+    try {
+        cfg = loadConfig(o.configPath.empty() ? defaultConfigPath()
+                                              : std::filesystem::path(o.configPath));
+        mode = render::parseStereoMode(o.stereo);
+        if (!o.playScript.empty()) script = loadScript(o.playScript);
+    } catch (const std::exception& e) {
+        err << "vsculpt: error: " << e.what() << "\n";
+        return 2;
+    }
+    std::unique_ptr<render::Viewer> viewer;
+    try {
+        viewer = std::make_unique<render::Viewer>(o.width, o.height, "vsculpt", !o.hidden);
+    } catch (const render::RenderError& e) {
+        err << "vsculpt: no sculpting window: " << e.what() << "\n"
+            << "vsculpt: for a headless session run `vsculpt play SCRIPT` (docs/playback.md)\n";
+        return 1;
+    }
+
+    Session session(cfg);
+    Interaction ui(session);
+    glm::dmat4 worldFromObject(1.0);  // the object's pose, turned by right-dragging
+    double yaw = 0, pitch = 0;
+    double cursorX = o.width / 2.0, cursorY = o.height / 2.0, lastX = cursorX, lastY = cursorY;
+    bool rotating = false;
+    double depthOffset = 0;  // mm along the pointer ray, from the scroll wheel
+    size_t commandIndex = 0, frame = 0;
+    double frameMs = 0;
+    bool running = true;
+    Vec3 toolWorld(0.0);
+    render::StereoDisplay display;
+    // What the camera frames: the mesh on show, refreshed now and then (and on zoom).
+    Aabb frameBox = meshBounds(session.view().mesh());
+    int framedZoom = session.zoom();
+
+    while (running) {
+        const auto t0 = std::chrono::steady_clock::now();
+        // Scripted commands first (one per frame), then live input.
+        if (commandIndex < script.commands.size()) {
+            const ScriptCommand& c = script.commands[commandIndex++];
+            try {
+                session.apply(c);
+            } catch (const std::exception& e) {
+                err << "vsculpt: " << script.source << ":" << c.line << ": " << e.what() << "\n";
+                return 2;
+            }
+        }
+        const ToolLevel& level = session.sculpture().levels().level(session.size());
+        for (const render::InputEvent& ev : viewer->pollEvents()) {
+            using K = render::InputEvent::Kind;
+            const Vec3 toolObject = glm::inverse(worldFromObject) * glm::dvec4(toolWorld, 1);
+            if (ev.kind == K::Close) running = false;
+            if (ev.kind == K::Key && ev.pressed) {
+                try {
+                    if (ev.code == GLFW_KEY_ESCAPE)
+                        running = false;
+                    else if (ev.code == GLFW_KEY_TAB)
+                        ui.cycleTool();
+                    else if (ev.code == GLFW_KEY_SPACE)
+                        ui.step(toolObject);
+                    else if (ev.code >= GLFW_KEY_1 && ev.code <= GLFW_KEY_7)
+                        ui.jumpToSize(ev.code - GLFW_KEY_0);
+                    else if (ev.code == GLFW_KEY_Z)
+                        ui.jumpToZoom(std::min(5, session.zoom() + 1), toolObject);
+                    else if (ev.code == GLFW_KEY_X)
+                        ui.jumpToZoom(std::max(1, session.zoom() - 1), toolObject);
+                    else if (ev.code == GLFW_KEY_O)
+                        ui.overview();
+                    else if (ev.code == GLFW_KEY_U)
+                        session.undo();
+                    else if (ev.code == GLFW_KEY_R)
+                        session.redo();
+                } catch (const std::exception& e) {
+                    err << "vsculpt: " << e.what() << "\n";
+                }
+            }
+            if (ev.kind == K::MouseButton) {
+                if (ev.code == GLFW_MOUSE_BUTTON_LEFT) ui.setEngaged(ev.pressed);
+                if (ev.code == GLFW_MOUSE_BUTTON_RIGHT) rotating = ev.pressed;
+            }
+            if (ev.kind == K::Cursor) {
+                lastX = cursorX;
+                lastY = cursorY;
+                cursorX = ev.x;
+                cursorY = ev.y;
+                if (rotating) {
+                    yaw += (cursorX - lastX) * 0.01;
+                    pitch += (cursorY - lastY) * 0.01;
+                }
+            }
+            if (ev.kind == K::Scroll) depthOffset += ev.y * 0.25 * level.diameterMm;
+        }
+        worldFromObject = glm::rotate(glm::rotate(glm::dmat4(1.0), pitch, glm::dvec3(1, 0, 0)), yaw,
+                                      glm::dvec3(0, 0, 1));
+
+        // The tool follows the surface under the pointer (plus the scroll depth): march the
+        // field along the pointer ray in object space.
+        Vec3 origin, dir;
+        viewer->pixelRay(cursorX, cursorY, origin, dir);
+        const glm::dmat4 objectFromWorld = glm::inverse(worldFromObject);
+        const Vec3 oObj = Vec3(objectFromWorld * glm::dvec4(origin, 1));
+        const Vec3 dObj = glm::normalize(Vec3(objectFromWorld * glm::dvec4(dir, 0)));
+        FieldProbe probe(session.sculpture());
+        const Aabb box = session.view().region().box();
+        const double far = glm::length(box.max - box.min) * 1.5;
+        double hitT = -1;
+        const double step = 0.5 * session.view().region().spacingMm;
+        for (double t = 0; t < far; t += step)
+            if (probe.value(oObj + t * dObj) > 0) {
+                hitT = t;
+                break;
+            }
+        if (hitT < 0) hitT = glm::length(0.5 * (box.min + box.max) - oObj);
+        // The tool rests on the surface (touching it); the scroll wheel pushes it in or out.
+        const double toolRadius = 0.5 * level.diameterMm;
+        const Vec3 toolObject = oObj + (hitT - toolRadius + depthOffset) * dObj;
+        toolWorld = Vec3(worldFromObject * glm::dvec4(toolObject, 1));
+        try {
+            ui.moveTool(toolWorld);
+        } catch (const std::exception& e) {
+            err << "vsculpt: " << e.what() << "\n";
+        }
+        // Contact cue from the field at and around the tool.
+        render::ToolDraw tool;
+        tool.worldPos = toolWorld;
+        tool.radiusMm = toolRadius;
+        tool.selectBox = session.tool() == ToolKind::Select;
+        if (probe.value(toolObject) > 0) {
+            tool.contact = 2;
+        } else {
+            for (const Vec3& d : {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0),
+                                  Vec3(0, 0, 1), Vec3(0, 0, -1)})
+                if (probe.value(toolObject + d * tool.radiusMm) > 0) tool.contact = 1;
+        }
+
+        viewer->syncChunks(session.view());
+        if (session.zoom() != framedZoom || frame % 30 == 29) {
+            const Aabb b = meshBounds(session.view().mesh());
+            if (!b.empty()) frameBox = b;
+            framedZoom = session.zoom();
+        }
+        const render::FrameStats st = viewer->draw(worldFromObject, frameBox, tool, mode, display);
+        ++frame;
+        const bool last = o.frames > 0 && frame >= size_t(o.frames);
+        if (last && !o.shotPath.empty()) {
+            try {
+                render::writePng(viewer->readFrame(), o.shotPath);
+                out << "vsculpt: wrote " << o.shotPath << "\n";
+            } catch (const std::exception& e) {
+                err << "vsculpt: error: " << e.what() << "\n";
+                return 1;
+            }
+        }
+        viewer->swap();
+        frameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                      .count();
+        char title[256];
+        std::snprintf(
+            title, sizeof title,
+            "vsculpt — %s · size %d (%.1f mm) · zoom %d · %zu skeletons · %zu triangles · "
+            "%.1f ms/frame",
+            toolName(session.tool()), session.size(), level.diameterMm, session.zoom(),
+            session.sculpture().counts().total(), st.triangles, frameMs);
+        viewer->setTitle(title);
+        if (last) running = false;
+    }
+    session.endStroke();
+    out << "vsculpt: " << frame << " frame(s), " << session.sculpture().counts().total()
+        << " skeletons, last frame " << frameMs << " ms\n";
+    return 0;
+}
+
+}  // namespace vsculpt::app

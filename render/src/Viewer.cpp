@@ -293,4 +293,14 @@ void Viewer::pixelRay(double x, double y, core::Vec3& origin, core::Vec3& dir) c
     dir = glm::normalize(core::Vec3(pf) / pf.w - origin);
 }
 
+std::string Viewer::rendererName() const {
+    const auto* r = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    const auto* v = reinterpret_cast<const char*>(glGetString(GL_VERSION));
+    return std::string(r ? r : "?") + " / " + (v ? v : "?");
+}
+
+void Viewer::finish() {
+    glFinish();
+}
+
 }  // namespace vsculpt::render

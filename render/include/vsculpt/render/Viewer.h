@@ -65,6 +65,11 @@ class Viewer {
     void swap();
     Image readFrame();
 
+    /// GL_RENDERER and GL_VERSION of the context, for benchmark records.
+    std::string rendererName() const;
+    /// Waits until the GPU has finished the frame (benchmarks).
+    void finish();
+
     /// The world-space ray through a window pixel, for the current mono camera.
     void pixelRay(double x, double y, core::Vec3& origin, core::Vec3& dir) const;
 

@@ -1,0 +1,135 @@
+// SPDX-License-Identifier: MIT
+// Renderer benchmarks (issue #5). They need a display: run the benchmark executable under
+// `xvfb-run -a` on machines without one; without a display they are skipped. The GL
+// renderer is reported in the "renderer" label. Results and commands: docs/benchmarks.md.
+#include "vsculpt/core/PlaceStroke.h"
+#include "vsculpt/core/Polygonizer.h"
+#include "vsculpt/core/Sculpture.h"
+#include "vsculpt/render/Viewer.h"
+
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <map>
+#include <memory>
+
+using namespace vsculpt;
+using core::Vec3;
+
+namespace {
+
+/// The initial sphere (r = 40 mm) polygonized finely enough for ~N triangles.
+struct Scene {
+    std::unique_ptr<core::Sculpture> sculpture;
+    std::unique_ptr<core::Polygonizer> poly;
+};
+
+Scene& sceneWith(long triangles) {
+    static std::map<long, Scene> cache;
+    Scene& sc = cache[triangles];
+    if (sc.poly) return sc;
+    core::SculptConfig cfg;
+    sc.sculpture = std::make_unique<core::Sculpture>(cfg);
+    // A sphere of radius r meshed at spacing h gives about 9 * 4 pi r^2 / h^2 triangles (Kuhn
+    // tetrahedra cut several triangles per surface cell).
+    const double h = std::sqrt(9.0 * 4 * 3.14159 * 1600.0 / double(triangles));
+    core::GridRegion r;
+    r.spacingMm = h;
+    r.n = int(std::ceil(90.0 / h / 16)) * 16;
+    for (int a = 0; a < 3; ++a)
+        r.originCell[a] = -r.n / 2;
+    sc.poly = std::make_unique<core::Polygonizer>(*sc.sculpture, r, 0.125);
+    sc.poly->rebuildAll();
+    return sc;
+}
+
+std::unique_ptr<render::Viewer> makeViewer(benchmark::State& state) {
+    try {
+        return std::make_unique<render::Viewer>(1280, 800, "bench", false);
+    } catch (const std::exception& e) {
+        state.SkipWithError("no display: run under xvfb-run");
+        return nullptr;
+    }
+}
+
+/// One frame: draw calls for every chunk and the tool, then glFinish (so llvmpipe's
+/// rasterisation on the CPU is included in the wall time).
+void BM_FrameDraw(benchmark::State& state) {
+    auto viewer = makeViewer(state);
+    if (!viewer) return;
+    Scene& sc = sceneWith(state.range(0));
+    viewer->syncChunks(*sc.poly);
+    const core::Aabb box{Vec3(-40), Vec3(40)};
+    render::ToolDraw tool;
+    tool.worldPos = Vec3(0, -45, 0);
+    double cpu = 0;
+    size_t tris = 0;
+    for (auto _ : state) {
+        const render::FrameStats st =
+            viewer->draw(glm::dmat4(1.0), box, tool, render::StereoMode::Mono, {});
+        viewer->finish();
+        cpu += st.cpuMs;
+        tris = st.triangles;
+    }
+    state.counters["triangles"] = double(tris);
+    state.counters["cpu_ms_per_frame"] = cpu / double(state.iterations());
+    state.SetLabel(viewer->rendererName());
+}
+BENCHMARK(BM_FrameDraw)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// Re-uploading one changed chunk (its mesh built from the polygonizer's blocks, then the
+/// buffer upload).
+void BM_ChunkUpload(benchmark::State& state) {
+    auto viewer = makeViewer(state);
+    if (!viewer) return;
+    Scene& sc = sceneWith(state.range(0));
+    viewer->syncChunks(*sc.poly);
+    size_t uploads = 0;
+    bool flip = false;
+    for (auto _ : state) {
+        state.PauseTiming();
+        // A tiny edit on the sphere's top changes a handful of chunks.
+        core::StrokeBuilder stroke(*sc.sculpture, flip ? core::ToolOp::Carve : core::ToolOp::Add,
+                                   1);
+        const core::EditResult r = stroke.addSample(Vec3(0.3, 0.2, 40));
+        sc.poly->update(r.changedPoints, r.supportMm);
+        flip = !flip;
+        state.ResumeTiming();
+        uploads += viewer->syncChunks(*sc.poly);
+        viewer->finish();
+    }
+    state.counters["chunks_per_edit"] = double(uploads) / double(state.iterations());
+    state.counters["ms_per_chunk"] = benchmark::Counter(
+        double(uploads) / 1000.0, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_ChunkUpload)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// From a tool sample to the finished frame that shows it, as in the desktop loop:
+/// placement, polygonizer update, chunk uploads, draw, glFinish. Zoom-1 grid, level 5.
+void BM_SampleToFrame(benchmark::State& state) {
+    auto viewer = makeViewer(state);
+    if (!viewer) return;
+    core::SculptConfig cfg;
+    core::Sculpture s(cfg);
+    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, Vec3(0)), 0.125);
+    poly.rebuildAll();
+    viewer->syncChunks(poly);
+    const core::Aabb box{Vec3(-60), Vec3(60)};
+    render::ToolDraw tool;
+    int i = 0;
+    std::vector<core::SkeletonChange> all;
+    auto stroke = std::make_unique<core::StrokeBuilder>(s, core::ToolOp::Add, 5);
+    for (auto _ : state) {
+        const Vec3 p(-30 + (i++ % 60), -38, 10);
+        const core::EditResult r = stroke->addSample(p);
+        poly.update(r.changedPoints, r.supportMm);
+        viewer->syncChunks(poly);
+        tool.worldPos = p;
+        viewer->draw(glm::dmat4(1.0), box, tool, render::StereoMode::Mono, {});
+        viewer->finish();
+    }
+    state.SetLabel(viewer->rendererName());
+}
+BENCHMARK(BM_SampleToFrame)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace

@@ -164,6 +164,17 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
                 if (probe.value(toolObject + d * tool.radiusMm) > 0) tool.contact = 1;
         }
 
+        // Depth cue: the point of the surface straight below the tool (world -z).
+        {
+            const Vec3 down = glm::normalize(Vec3(objectFromWorld * glm::dvec4(0, 0, -1, 0)));
+            for (double t = 0; t < far; t += step) {
+                if (probe.value(toolObject + t * down) > 0) {
+                    tool.shadow = true;
+                    tool.shadowPos = Vec3(worldFromObject * glm::dvec4(toolObject + t * down, 1));
+                    break;
+                }
+            }
+        }
         viewer->syncChunks(session.view());
         if (session.zoom() != framedZoom || frame % 30 == 29) {
             const Aabb b = meshBounds(session.view().mesh());

@@ -252,6 +252,17 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
             if (tool.selectBox) glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
             mImpl->sphere.draw();
             glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+            if (tool.shadow) {
+                // A dark, flattened disc on the surface under the tool.
+                const float r = float(tool.radiusMm) * 0.9f;
+                const glm::mat4 shadowM =
+                    glm::scale(glm::translate(glm::mat4(1.f), glm::vec3(tool.shadowPos)),
+                               glm::vec3(r, r, 0.08f * r));
+                glUniformMatrix4fv(mImpl->worldFromObjectLoc, 1, GL_FALSE, glm::value_ptr(shadowM));
+                const glm::vec3 dark(0.25f, 0.25f, 0.3f);
+                glUniform3fv(mImpl->tintLoc, 1, glm::value_ptr(dark));
+                mImpl->sphere.draw();
+            }
         }
     }
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);

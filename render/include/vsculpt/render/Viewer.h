@@ -33,6 +33,9 @@ struct ToolDraw {
     /// 0 = in the air, 1 = touching the surface, 2 = inside the material (contact cue).
     int contact = 0;
     bool selectBox = false;  ///< the region-select tool is drawn as a cube
+    /// Depth cue: where the tool's shadow falls on the surface straight below it (world -z).
+    bool shadow = false;
+    core::Vec3 shadowPos{0.0};
 };
 
 struct FrameStats {

@@ -12,6 +12,8 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <map>
 #include <ostream>
 
 namespace vsculpt::app {
@@ -19,6 +21,36 @@ namespace vsculpt::app {
 using namespace vsculpt::core;
 
 namespace {
+
+/// GLFW key code for a key name from configs ("TAB", "Z", "7", "F5", ...), or -1.
+int keyCode(const std::string& name) {
+    if (name.size() == 1 && name[0] >= 'A' && name[0] <= 'Z') return GLFW_KEY_A + (name[0] - 'A');
+    if (name.size() == 1 && name[0] >= '0' && name[0] <= '9') return GLFW_KEY_0 + (name[0] - '0');
+    if (name.size() >= 2 && name[0] == 'F') {
+        const int n = std::atoi(name.c_str() + 1);
+        if (n >= 1 && n <= 12 && name == "F" + std::to_string(n)) return GLFW_KEY_F1 + n - 1;
+    }
+    static const std::map<std::string, int> named = {{"TAB", GLFW_KEY_TAB},
+                                                     {"SPACE", GLFW_KEY_SPACE},
+                                                     {"ESCAPE", GLFW_KEY_ESCAPE},
+                                                     {"ENTER", GLFW_KEY_ENTER},
+                                                     {"BACKSPACE", GLFW_KEY_BACKSPACE},
+                                                     {"DELETE", GLFW_KEY_DELETE},
+                                                     {"LEFT", GLFW_KEY_LEFT},
+                                                     {"RIGHT", GLFW_KEY_RIGHT},
+                                                     {"UP", GLFW_KEY_UP},
+                                                     {"DOWN", GLFW_KEY_DOWN},
+                                                     {"PAGE_UP", GLFW_KEY_PAGE_UP},
+                                                     {"PAGE_DOWN", GLFW_KEY_PAGE_DOWN},
+                                                     {"HOME", GLFW_KEY_HOME},
+                                                     {"END", GLFW_KEY_END},
+                                                     {"MINUS", GLFW_KEY_MINUS},
+                                                     {"EQUAL", GLFW_KEY_EQUAL},
+                                                     {"COMMA", GLFW_KEY_COMMA},
+                                                     {"PERIOD", GLFW_KEY_PERIOD}};
+    auto it = named.find(name);
+    return it == named.end() ? -1 : it->second;
+}
 
 const char* toolName(ToolKind t) {
     return t == ToolKind::Add ? "add" : t == ToolKind::Carve ? "carve" : "select";
@@ -38,6 +70,21 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
     } catch (const std::exception& e) {
         err << "vsculpt: error: " << e.what() << "\n";
         return 2;
+    }
+    std::map<int, std::string> actionOfKey;
+    for (const auto& [action, key] : cfg.interaction.bindings) {
+        const int code = keyCode(key);
+        if (code < 0) {
+            err << "vsculpt: error: " << cfg.source << ": interaction.bindings." << action
+                << ": unknown key name '" << key << "' (use A-Z, 0-9, F1-F12, TAB, SPACE, ...)\n";
+            return 2;
+        }
+        if (actionOfKey.count(code)) {
+            err << "vsculpt: error: " << cfg.source << ": interaction.bindings." << action
+                << ": key '" << key << "' is already bound to " << actionOfKey[code] << "\n";
+            return 2;
+        }
+        actionOfKey[code] = action;
     }
     std::unique_ptr<render::Viewer> viewer;
     try {
@@ -81,25 +128,26 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
             using K = render::InputEvent::Kind;
             const Vec3 toolObject = glm::inverse(worldFromObject) * glm::dvec4(toolWorld, 1);
             if (ev.kind == K::Close) running = false;
-            if (ev.kind == K::Key && ev.pressed) {
+            if (ev.kind == K::Key && ev.pressed && actionOfKey.count(ev.code)) {
+                const std::string& a = actionOfKey[ev.code];
                 try {
-                    if (ev.code == GLFW_KEY_ESCAPE)
+                    if (a == "quit")
                         running = false;
-                    else if (ev.code == GLFW_KEY_TAB)
+                    else if (a == "cycle_tool")
                         ui.cycleTool();
-                    else if (ev.code == GLFW_KEY_SPACE)
+                    else if (a == "step")
                         ui.step(toolObject);
-                    else if (ev.code >= GLFW_KEY_1 && ev.code <= GLFW_KEY_7)
-                        ui.jumpToSize(ev.code - GLFW_KEY_0);
-                    else if (ev.code == GLFW_KEY_Z)
+                    else if (a.rfind("size_", 0) == 0)
+                        ui.jumpToSize(a.back() - '0');
+                    else if (a == "zoom_in")
                         ui.jumpToZoom(std::min(5, session.zoom() + 1), toolObject);
-                    else if (ev.code == GLFW_KEY_X)
+                    else if (a == "zoom_out")
                         ui.jumpToZoom(std::max(1, session.zoom() - 1), toolObject);
-                    else if (ev.code == GLFW_KEY_O)
+                    else if (a == "overview")
                         ui.overview();
-                    else if (ev.code == GLFW_KEY_U)
+                    else if (a == "undo")
                         session.undo();
-                    else if (ev.code == GLFW_KEY_R)
+                    else if (a == "redo")
                         session.redo();
                 } catch (const std::exception& e) {
                     err << "vsculpt: " << e.what() << "\n";
@@ -115,11 +163,12 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
                 cursorX = ev.x;
                 cursorY = ev.y;
                 if (rotating) {
-                    yaw += (cursorX - lastX) * 0.01;
-                    pitch += (cursorY - lastY) * 0.01;
+                    yaw += (cursorX - lastX) * cfg.interaction.rotateRadPerPixel;
+                    pitch += (cursorY - lastY) * cfg.interaction.rotateRadPerPixel;
                 }
             }
-            if (ev.kind == K::Scroll) depthOffset += ev.y * 0.25 * level.diameterMm;
+            if (ev.kind == K::Scroll)
+                depthOffset += ev.y * cfg.interaction.depthStepOverDiameter * level.diameterMm;
         }
         worldFromObject = glm::rotate(glm::rotate(glm::dmat4(1.0), pitch, glm::dvec3(1, 0, 0)), yaw,
                                       glm::dvec3(0, 0, 1));

@@ -206,8 +206,26 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
     poly.number("bisection_tolerance", cfg.polygonizer.bisectionTolerance);
     poly.rejectUnknown();
 
+    Section inter = top.sub("interaction");
+    inter.number("depth_step_over_diameter", cfg.interaction.depthStepOverDiameter);
+    inter.number("rotate_rad_per_pixel", cfg.interaction.rotateRadPerPixel);
+    if (const json* b = inter.find("bindings")) {
+        if (!b->is_object())
+            inter.fail("interaction.bindings", "expected an object of action: key name");
+        const auto& actions = bindableActions();
+        for (auto it = b->begin(); it != b->end(); ++it) {
+            const std::string key = "interaction.bindings." + it.key();
+            if (std::find(actions.begin(), actions.end(), it.key()) == actions.end())
+                inter.fail(key, "unknown action (see docs/window.md)");
+            if (!it->is_string() || it->get<std::string>().empty())
+                inter.fail(key, "expected a key name such as \"TAB\" or \"Z\"");
+            cfg.interaction.bindings[it.key()] = it->get<std::string>();
+        }
+    }
+    inter.rejectUnknown();
+
     // Sections owned by later stages are accepted whole here; their own loaders check them.
-    for (const char* key : {"render", "devices", "interaction"})
+    for (const char* key : {"render", "devices"})
         top.find(key);
     top.rejectUnknown();
 
@@ -222,6 +240,13 @@ SculptConfig loadConfig(const std::filesystem::path& path) {
     text << in.rdbuf();
     if (in.bad()) throw ConfigError(path.string() + ": read error");
     return parseConfig(text.str(), path.string());
+}
+
+const std::vector<std::string>& bindableActions() {
+    static const std::vector<std::string> a = {
+        "cycle_tool", "step",   "zoom_in", "zoom_out", "overview", "undo",   "redo",  "quit",
+        "size_1",     "size_2", "size_3",  "size_4",   "size_5",   "size_6", "size_7"};
+    return a;
 }
 
 std::string configToJson(const SculptConfig& c) {
@@ -248,6 +273,9 @@ std::string configToJson(const SculptConfig& c) {
     j["zoom"] = {{"levels", kZoomLevels},
                  {"base_spacing_over_d6", c.zoom.baseSpacingOverD6},
                  {"allowed_sizes", c.zoom.allowedSizes}};
+    j["interaction"] = {{"bindings", c.interaction.bindings},
+                        {"depth_step_over_diameter", c.interaction.depthStepOverDiameter},
+                        {"rotate_rad_per_pixel", c.interaction.rotateRadPerPixel}};
     j["polygonizer"] = {{"grid_n", c.polygonizer.gridN},
                         {"bisection_tolerance", c.polygonizer.bisectionTolerance}};
     return j.dump(2);
@@ -302,6 +330,12 @@ void validateConfig(const SculptConfig& c) {
           c.zoom.baseSpacingOverD6 <= 2))
         fail("zoom.base_spacing_over_d6",
              "must be in (0, 2] (got " + num(c.zoom.baseSpacingOverD6) + ")");
+    if (!(std::isfinite(c.interaction.depthStepOverDiameter) &&
+          c.interaction.depthStepOverDiameter > 0 && c.interaction.depthStepOverDiameter <= 10))
+        fail("interaction.depth_step_over_diameter", "must be in (0, 10]");
+    if (!(std::isfinite(c.interaction.rotateRadPerPixel) && c.interaction.rotateRadPerPixel > 0 &&
+          c.interaction.rotateRadPerPixel <= 1))
+        fail("interaction.rotate_rad_per_pixel", "must be in (0, 1]");
     if (c.polygonizer.gridN < 16 || c.polygonizer.gridN > 1024 || c.polygonizer.gridN % 16 != 0)
         fail("polygonizer.grid_n", "must be a multiple of 16 between 16 and 1024 (got " +
                                        std::to_string(c.polygonizer.gridN) + ")");

@@ -38,6 +38,9 @@ TEST(Config, ShippedFileEqualsBuiltInDefaults) {
     EXPECT_EQ(file.zoom.allowedSizes, def.zoom.allowedSizes);
     EXPECT_EQ(file.polygonizer.gridN, def.polygonizer.gridN);
     EXPECT_EQ(file.polygonizer.bisectionTolerance, def.polygonizer.bisectionTolerance);
+    EXPECT_EQ(file.interaction.bindings, def.interaction.bindings);
+    EXPECT_EQ(file.interaction.depthStepOverDiameter, def.interaction.depthStepOverDiameter);
+    EXPECT_EQ(file.interaction.rotateRadPerPixel, def.interaction.rotateRadPerPixel);
     // The thesis's values.
     EXPECT_EQ(def.growth, 1.5);
     EXPECT_EQ(def.spacingOverDiameter, 0.5);
@@ -117,6 +120,12 @@ TEST(Config, BadValuesNameTheKeyAndReason) {
         {R"({"zoom": {"base_spacing_over_d6": 0}})",
          "zoom.base_spacing_over_d6: must be in (0, 2]"},
         {R"({"polygonizer": {"grid_n": 100}})", "polygonizer.grid_n: must be a multiple of 16"},
+        {R"({"interaction": {"bindings": {"cycle_tol": "TAB"}}})",
+         "interaction.bindings.cycle_tol: unknown action"},
+        {R"({"interaction": {"bindings": {"undo": 5}}})",
+         "interaction.bindings.undo: expected a key name"},
+        {R"({"interaction": {"rotate_rad_per_pixel": 0}})",
+         "interaction.rotate_rad_per_pixel: must be in"},
         {R"({"polygonizer": {"grid_n": 1.5}})", "polygonizer.grid_n: expected an integer"},
         {R"({"polygonizer": {"bisection_tolerance": 0.9}})",
          "polygonizer.bisection_tolerance: must be in"},

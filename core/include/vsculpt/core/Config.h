@@ -9,6 +9,7 @@
 
 #include <array>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -53,6 +54,20 @@ struct PolygonizerConfig {
     double bisectionTolerance = 0.125;  ///< edge-root bracket, as a fraction of the spacing
 };
 
+/// Actions of the window's keyboard, in configs/sculpt.json "interaction.bindings".
+const std::vector<std::string>& bindableActions();
+
+struct InteractionConfig {
+    /// action -> key name (GLFW names without the GLFW_KEY_ prefix: "TAB", "SPACE", "Z", "1").
+    std::map<std::string, std::string> bindings{
+        {"cycle_tool", "TAB"}, {"step", "SPACE"}, {"zoom_in", "Z"}, {"zoom_out", "X"},
+        {"overview", "O"},     {"undo", "U"},     {"redo", "R"},    {"quit", "ESCAPE"},
+        {"size_1", "1"},       {"size_2", "2"},   {"size_3", "3"},  {"size_4", "4"},
+        {"size_5", "5"},       {"size_6", "6"},   {"size_7", "7"}};
+    double depthStepOverDiameter = 0.25;  ///< scroll notch moves the tool by this x D
+    double rotateRadPerPixel = 0.01;      ///< right-drag turns the object by this per pixel
+};
+
 struct SculptConfig {
     // tools
     double d4Mm = 10.0;                ///< diameter of the level-4 tool, mm
@@ -73,6 +88,7 @@ struct SculptConfig {
 
     ZoomConfig zoom;
     PolygonizerConfig polygonizer;
+    InteractionConfig interaction;
 
     /// Where the values came from ("built-in defaults" or a file path), for messages.
     std::string source = "built-in defaults";

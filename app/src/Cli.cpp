@@ -30,9 +30,10 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         ->capture_default_str();
 
     WindowOptions window;
-    cli.add_option("--stereo", window.stereo, "Window stereo mode: mono, sbs or anaglyph")
-        ->check(CLI::IsMember({"mono", "sbs", "anaglyph"}))
-        ->capture_default_str();
+    cli.add_option(
+           "--stereo", window.stereo,
+           "Window stereo mode: mono, sbs or anaglyph (default: the config's render.stereo)")
+        ->check(CLI::IsMember({"mono", "sbs", "anaglyph"}));
     cli.add_option("--frames", window.frames, "Close the window after N frames (0: never)")
         ->check(CLI::NonNegativeNumber);
     cli.add_option("--play", window.playScript,

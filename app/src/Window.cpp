@@ -65,7 +65,7 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
     try {
         cfg = loadConfig(o.configPath.empty() ? defaultConfigPath()
                                               : std::filesystem::path(o.configPath));
-        mode = render::parseStereoMode(o.stereo);
+        mode = render::parseStereoMode(o.stereo.empty() ? cfg.render.stereo : o.stereo);
         if (!o.playScript.empty()) script = loadScript(o.playScript);
     } catch (const std::exception& e) {
         err << "vsculpt: error: " << e.what() << "\n";
@@ -107,6 +107,13 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
     bool running = true;
     Vec3 toolWorld(0.0);
     render::StereoDisplay display;
+    display.ipdMm = cfg.render.ipdMm;
+    display.verticalFovDeg = cfg.render.verticalFovDeg;
+    const render::LensCorrection lens{cfg.render.lensK1, cfg.render.lensK2, cfg.render.lensRedScale,
+                                      cfg.render.lensBlueScale};
+    if (cfg.render.fullscreenMonitor >= 0 && !viewer->goFullscreen(cfg.render.fullscreenMonitor))
+        err << "vsculpt: monitor " << cfg.render.fullscreenMonitor
+            << " not found (render.fullscreen_monitor); staying in a window\n";
     // What the camera frames: the mesh on show, refreshed now and then (and on zoom).
     Aabb frameBox = meshBounds(session.view().mesh());
     int framedZoom = session.zoom();
@@ -230,7 +237,8 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
             if (!b.empty()) frameBox = b;
             framedZoom = session.zoom();
         }
-        const render::FrameStats st = viewer->draw(worldFromObject, frameBox, tool, mode, display);
+        const render::FrameStats st =
+            viewer->draw(worldFromObject, frameBox, tool, mode, display, lens);
         ++frame;
         const bool last = o.frames > 0 && frame >= size_t(o.frames);
         if (last && !o.shotPath.empty()) {

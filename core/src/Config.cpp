@@ -224,9 +224,31 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
     }
     inter.rejectUnknown();
 
-    // Sections owned by later stages are accepted whole here; their own loaders check them.
-    for (const char* key : {"render", "devices"})
-        top.find(key);
+    Section rend = top.sub("render");
+    if (const json* v = rend.find("stereo")) {
+        const std::string m = v->is_string() ? v->get<std::string>() : "";
+        if (m != "mono" && m != "sbs" && m != "anaglyph")
+            rend.fail("render.stereo",
+                      "expected \"mono\", \"sbs\" or \"anaglyph\", got " + v->dump());
+        cfg.render.stereo = m;
+    }
+    rend.number("ipd_mm", cfg.render.ipdMm);
+    rend.number("vertical_fov_deg", cfg.render.verticalFovDeg);
+    if (const json* v = rend.find("fullscreen_monitor")) {
+        if (!v->is_number_integer())
+            rend.fail("render.fullscreen_monitor", "expected an integer (-1: windowed)");
+        cfg.render.fullscreenMonitor = v->get<int>();
+    }
+    Section lens = rend.sub("lens");
+    lens.number("k1", cfg.render.lensK1);
+    lens.number("k2", cfg.render.lensK2);
+    lens.number("red_scale", cfg.render.lensRedScale);
+    lens.number("blue_scale", cfg.render.lensBlueScale);
+    lens.rejectUnknown();
+    rend.rejectUnknown();
+
+    // The devices section is owned by the device layer (issue #6), accepted as it is here.
+    top.find("devices");
     top.rejectUnknown();
 
     validateConfig(cfg);
@@ -273,6 +295,15 @@ std::string configToJson(const SculptConfig& c) {
     j["zoom"] = {{"levels", kZoomLevels},
                  {"base_spacing_over_d6", c.zoom.baseSpacingOverD6},
                  {"allowed_sizes", c.zoom.allowedSizes}};
+    j["render"] = {{"stereo", c.render.stereo},
+                   {"ipd_mm", c.render.ipdMm},
+                   {"vertical_fov_deg", c.render.verticalFovDeg},
+                   {"fullscreen_monitor", c.render.fullscreenMonitor},
+                   {"lens",
+                    {{"k1", c.render.lensK1},
+                     {"k2", c.render.lensK2},
+                     {"red_scale", c.render.lensRedScale},
+                     {"blue_scale", c.render.lensBlueScale}}}};
     j["interaction"] = {{"bindings", c.interaction.bindings},
                         {"depth_step_over_diameter", c.interaction.depthStepOverDiameter},
                         {"rotate_rad_per_pixel", c.interaction.rotateRadPerPixel}};
@@ -336,6 +367,17 @@ void validateConfig(const SculptConfig& c) {
     if (!(std::isfinite(c.interaction.rotateRadPerPixel) && c.interaction.rotateRadPerPixel > 0 &&
           c.interaction.rotateRadPerPixel <= 1))
         fail("interaction.rotate_rad_per_pixel", "must be in (0, 1]");
+    if (!(std::isfinite(c.render.ipdMm) && c.render.ipdMm >= 0 && c.render.ipdMm <= 200))
+        fail("render.ipd_mm", "must be in [0, 200] mm");
+    if (!(c.render.verticalFovDeg >= 5 && c.render.verticalFovDeg <= 170))
+        fail("render.vertical_fov_deg", "must be in [5, 170] degrees");
+    if (c.render.fullscreenMonitor < -1) fail("render.fullscreen_monitor", "must be >= -1");
+    for (const auto& [key, v] : {std::pair{"render.lens.k1", c.render.lensK1},
+                                 std::pair{"render.lens.k2", c.render.lensK2}})
+        if (!(std::isfinite(v) && std::abs(v) <= 5)) fail(key, "must be in [-5, 5]");
+    for (const auto& [key, v] : {std::pair{"render.lens.red_scale", c.render.lensRedScale},
+                                 std::pair{"render.lens.blue_scale", c.render.lensBlueScale}})
+        if (!(std::isfinite(v) && v >= 0.5 && v <= 2)) fail(key, "must be in [0.5, 2]");
     if (c.polygonizer.gridN < 16 || c.polygonizer.gridN > 1024 || c.polygonizer.gridN % 16 != 0)
         fail("polygonizer.grid_n", "must be a multiple of 16 between 16 and 1024 (got " +
                                        std::to_string(c.polygonizer.gridN) + ")");

@@ -92,12 +92,26 @@ WindowPtr createWindow(int width, int height, const std::string& title, bool vis
     return window;
 }
 
-GLuint clayProgram() {
+GLuint linkProgram(const char* vertex, const char* fragment) {
     const GLuint program = glCreateProgram();
-    glAttachShader(program, compile(GL_VERTEX_SHADER, kVertex));
-    glAttachShader(program, compile(GL_FRAGMENT_SHADER, kFragment));
+    const GLuint vs = compile(GL_VERTEX_SHADER, vertex), fs = compile(GL_FRAGMENT_SHADER, fragment);
+    glAttachShader(program, vs);
+    glAttachShader(program, fs);
     glLinkProgram(program);
+    glDeleteShader(vs);
+    glDeleteShader(fs);
+    GLint ok = 0;
+    glGetProgramiv(program, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[1024];
+        glGetProgramInfoLog(program, sizeof log, nullptr, log);
+        throw RenderError(std::string("shader link error: ") + log);
+    }
     return program;
+}
+
+GLuint clayProgram() {
+    return linkProgram(kVertex, kFragment);
 }
 
 void checkGl(const char* what) {

@@ -31,6 +31,9 @@ WindowPtr createWindow(int width, int height, const std::string& title, bool vis
 /// worldFromObject (mat4), eye (vec3, world), tint (vec3, multiplies the grey).
 GLuint clayProgram();
 
+/// Compiles and links a program from vertex and fragment sources.
+GLuint linkProgram(const char* vertex, const char* fragment);
+
 /// Throws RenderError naming the GL error, if any.
 void checkGl(const char* what);
 

@@ -38,7 +38,7 @@ glm::dmat4 frameFromFront(const glm::dvec3& boxMin, const glm::dvec3& boxMax, do
     const bool empty = boxMin.x > boxMax.x;
     const glm::dvec3 center = empty ? glm::dvec3(0) : 0.5 * (boxMin + boxMax);
     const double radius = empty ? 50.0 : std::max(1.0, 0.5 * glm::length(boxMax - boxMin));
-    d.verticalFovDeg = 40;
+    if (!(d.verticalFovDeg > 0 && d.verticalFovDeg < 180)) d.verticalFovDeg = 40;
     d.aspect = aspect;
     const double halfFov = glm::radians(d.verticalFovDeg) * 0.5 * std::min(1.0, aspect);
     const double distance = 1.1 * radius / std::sin(halfFov);

@@ -84,8 +84,41 @@ core::Mesh unitSphere(int rings, int segments) {
 
 }  // namespace
 
+static const char* kPostVertex = R"(#version 330 core
+out vec2 uv;
+void main() {
+    // One triangle covering the viewport.
+    vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
+    uv = p;
+    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+})";
+
+static const char* kPostFragment = R"(#version 330 core
+in vec2 uv;
+out vec4 color;
+uniform sampler2D eyeImage;
+uniform vec2 k;        // k1, k2
+uniform vec2 scaleRB;  // chromatic aberration: red and blue scales
+uniform float aspect;  // eye image width / height
+vec2 toUv(vec2 c) { return vec2(c.x / aspect, c.y) * 0.5 + 0.5; }
+float channel(vec2 c, int i) {
+    vec2 t = toUv(c);
+    if (any(lessThan(t, vec2(0.0))) || any(greaterThan(t, vec2(1.0)))) return 0.0;
+    return texture(eyeImage, t)[i];
+}
+void main() {
+    vec2 c = uv * 2.0 - 1.0;
+    c.x *= aspect;  // in units of the half-height
+    float r2 = dot(c, c);
+    vec2 d = c * (1.0 + k.x * r2 + k.y * r2 * r2);
+    color = vec4(channel(d * scaleRB.x, 0), channel(d, 1), channel(d * scaleRB.y, 2), 1.0);
+})";
+
 struct Viewer::Impl {
     detail::WindowPtr window;
+    GLuint postProgram = 0, postVao = 0;
+    GLuint eyeFbo = 0, eyeColor = 0, eyeDepth = 0;
+    int eyeW = 0, eyeH = 0;
     GLuint program = 0;
     GLint clipLoc = -1, worldFromObjectLoc = -1, eyeLoc = -1, tintLoc = -1;
     const core::Polygonizer* view = nullptr;
@@ -124,6 +157,8 @@ Viewer::Viewer(int width, int height, const std::string& title, bool visible)
     mImpl->eyeLoc = glGetUniformLocation(mImpl->program, "eye");
     mImpl->tintLoc = glGetUniformLocation(mImpl->program, "tint");
     mImpl->sphere.upload(unitSphere(16, 32));
+    mImpl->postProgram = detail::linkProgram(kPostVertex, kPostFragment);
+    glGenVertexArrays(1, &mImpl->postVao);
     glfwSwapInterval(0);
     detail::checkGl("Viewer setup");
 }
@@ -135,6 +170,13 @@ Viewer::~Viewer() {
         c.release();
     mImpl->sphere.release();
     glDeleteProgram(mImpl->program);
+    glDeleteProgram(mImpl->postProgram);
+    glDeleteVertexArrays(1, &mImpl->postVao);
+    if (mImpl->eyeFbo) {
+        glDeleteFramebuffers(1, &mImpl->eyeFbo);
+        glDeleteTextures(1, &mImpl->eyeColor);
+        glDeleteRenderbuffers(1, &mImpl->eyeDepth);
+    }
 }
 
 std::vector<InputEvent> Viewer::pollEvents() {
@@ -188,7 +230,8 @@ size_t Viewer::syncChunks(const core::Polygonizer& view) {
 }
 
 FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& frameBox,
-                        const ToolDraw& tool, StereoMode mode, const StereoDisplay& displayIn) {
+                        const ToolDraw& tool, StereoMode mode, const StereoDisplay& displayIn,
+                        const LensCorrection& lens) {
     const auto t0 = std::chrono::steady_clock::now();
     FrameStats stats;
     const int w = width(), h = height();
@@ -208,17 +251,54 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
         mono.aspect = double(w) / std::max(1, h);
         mImpl->monoEye = stereoEyes(worldFromHead, mono)[0];
     }
+    const bool corrected = sbs && lens.active();
+    if (corrected && (mImpl->eyeW != w / 2 || mImpl->eyeH != h)) {
+        // An offscreen image per eye, resampled through the lens correction afterwards.
+        if (mImpl->eyeFbo) {
+            glDeleteFramebuffers(1, &mImpl->eyeFbo);
+            glDeleteTextures(1, &mImpl->eyeColor);
+            glDeleteRenderbuffers(1, &mImpl->eyeDepth);
+        }
+        mImpl->eyeW = w / 2;
+        mImpl->eyeH = h;
+        glGenFramebuffers(1, &mImpl->eyeFbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, mImpl->eyeFbo);
+        glGenTextures(1, &mImpl->eyeColor);
+        glBindTexture(GL_TEXTURE_2D, mImpl->eyeColor);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, mImpl->eyeW, mImpl->eyeH, 0, GL_RGBA,
+                     GL_UNSIGNED_BYTE, nullptr);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, mImpl->eyeColor,
+                               0);
+        glGenRenderbuffers(1, &mImpl->eyeDepth);
+        glBindRenderbuffer(GL_RENDERBUFFER, mImpl->eyeDepth);
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, mImpl->eyeW, mImpl->eyeH);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
+                                  mImpl->eyeDepth);
+        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+            throw RenderError("eye framebuffer incomplete");
+    }
+    const glm::vec3 bg(kBackground[0] / 255.f, kBackground[1] / 255.f, kBackground[2] / 255.f);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glViewport(0, 0, w, h);
     glEnable(GL_DEPTH_TEST);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glClearColor(kBackground[0] / 255.f, kBackground[1] / 255.f, kBackground[2] / 255.f, 1.f);
+    glClearColor(bg.r, bg.g, bg.b, 1.f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glUseProgram(mImpl->program);
     const glm::mat4 object(worldFromObject);
     for (int e = 0; e < (mode == StereoMode::Mono ? 1 : 2); ++e) {
         const EyeView& eye = eyes[size_t(e)];
-        if (sbs) glViewport(e == 0 ? 0 : w / 2, 0, w / 2, h);
+        if (corrected) {
+            glBindFramebuffer(GL_FRAMEBUFFER, mImpl->eyeFbo);
+            glViewport(0, 0, mImpl->eyeW, mImpl->eyeH);
+            glEnable(GL_DEPTH_TEST);
+            glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        } else if (sbs) {
+            glViewport(e == 0 ? 0 : w / 2, 0, w / 2, h);
+        }
         if (mode == StereoMode::Anaglyph) {
             if (e == 0)
                 glColorMask(GL_TRUE, GL_FALSE, GL_FALSE, GL_TRUE);
@@ -226,6 +306,7 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
                 glColorMask(GL_FALSE, GL_TRUE, GL_TRUE, GL_TRUE);
             glClear(GL_DEPTH_BUFFER_BIT);
         }
+        glUseProgram(mImpl->program);
         const glm::mat4 clip(eye.clipFromView * eye.viewFromWorld);
         glUniformMatrix4fv(mImpl->clipLoc, 1, GL_FALSE, glm::value_ptr(clip));
         glUniform3f(mImpl->eyeLoc, float(eye.worldPosition.x), float(eye.worldPosition.y),
@@ -264,12 +345,41 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
                 mImpl->sphere.draw();
             }
         }
+        if (corrected) {
+            // Resample this eye through the lens correction into its half of the window.
+            glBindFramebuffer(GL_FRAMEBUFFER, 0);
+            glViewport(e == 0 ? 0 : w / 2, 0, w / 2, h);
+            glDisable(GL_DEPTH_TEST);
+            glUseProgram(mImpl->postProgram);
+            glActiveTexture(GL_TEXTURE0);
+            glBindTexture(GL_TEXTURE_2D, mImpl->eyeColor);
+            glUniform1i(glGetUniformLocation(mImpl->postProgram, "eyeImage"), 0);
+            glUniform2f(glGetUniformLocation(mImpl->postProgram, "k"), float(lens.k1),
+                        float(lens.k2));
+            glUniform2f(glGetUniformLocation(mImpl->postProgram, "scaleRB"), float(lens.redScale),
+                        float(lens.blueScale));
+            glUniform1f(glGetUniformLocation(mImpl->postProgram, "aspect"),
+                        float(mImpl->eyeW) / float(std::max(1, mImpl->eyeH)));
+            glBindVertexArray(mImpl->postVao);
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+            glEnable(GL_DEPTH_TEST);
+        }
     }
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     detail::checkGl("Viewer::draw");
     stats.cpuMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return stats;
+}
+
+bool Viewer::goFullscreen(int index) {
+    int count = 0;
+    GLFWmonitor** monitors = glfwGetMonitors(&count);
+    if (index < 0 || index >= count) return false;
+    const GLFWvidmode* mode = glfwGetVideoMode(monitors[index]);
+    glfwSetWindowMonitor(mImpl->window.get(), monitors[index], 0, 0, mode->width, mode->height,
+                         mode->refreshRate);
+    return true;
 }
 
 void Viewer::swap() {

@@ -39,6 +39,10 @@ TEST(Config, ShippedFileEqualsBuiltInDefaults) {
     EXPECT_EQ(file.polygonizer.gridN, def.polygonizer.gridN);
     EXPECT_EQ(file.polygonizer.bisectionTolerance, def.polygonizer.bisectionTolerance);
     EXPECT_EQ(file.interaction.bindings, def.interaction.bindings);
+    EXPECT_EQ(file.render.stereo, def.render.stereo);
+    EXPECT_EQ(file.render.ipdMm, def.render.ipdMm);
+    EXPECT_EQ(file.render.lensK1, def.render.lensK1);
+    EXPECT_EQ(file.render.fullscreenMonitor, def.render.fullscreenMonitor);
     EXPECT_EQ(file.interaction.depthStepOverDiameter, def.interaction.depthStepOverDiameter);
     EXPECT_EQ(file.interaction.rotateRadPerPixel, def.interaction.rotateRadPerPixel);
     // The thesis's values.
@@ -126,6 +130,10 @@ TEST(Config, BadValuesNameTheKeyAndReason) {
          "interaction.bindings.undo: expected a key name"},
         {R"({"interaction": {"rotate_rad_per_pixel": 0}})",
          "interaction.rotate_rad_per_pixel: must be in"},
+        {R"({"render": {"stereo": "3d"}})", "render.stereo: expected \"mono\""},
+        {R"({"render": {"lens": {"k1": 9}}})", "render.lens.k1: must be in [-5, 5]"},
+        {R"({"render": {"lens": {"k3": 0}}})", "render.lens.k3: unknown key"},
+        {R"({"render": {"ipd_mm": -1}})", "render.ipd_mm: must be in [0, 200] mm"},
         {R"({"polygonizer": {"grid_n": 1.5}})", "polygonizer.grid_n: expected an integer"},
         {R"({"polygonizer": {"bisection_tolerance": 0.9}})",
          "polygonizer.bisection_tolerance: must be in"},
@@ -149,7 +157,7 @@ TEST(Config, MissingFileIsAConfigErrorNamingThePath) {
 
 TEST(Config, CommentsAndLaterStageSectionsAreAccepted) {
     const SculptConfig c = parseConfig(
-        "// header\n{ /* inline */ \"tools\": {\"d4_mm\": 8}, \"render\": {\"eyes\": 2} }",
+        "// header\n{ /* inline */ \"tools\": {\"d4_mm\": 8}, \"devices\": {\"pen\": 2} }",
         "c.json");
     EXPECT_EQ(c.d4Mm, 8);
 }

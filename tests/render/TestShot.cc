@@ -175,3 +175,43 @@ TEST(Viewer, DrawsChunksAndReuploadsOnlyChangedOnes) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Viewer, LensCorrectionResamplesEachEye) {
+    core::SculptConfig cfg;
+    cfg.sphereRadiusMm = 30;
+    cfg.polygonizer.gridN = 64;
+    core::Sculpture s(cfg);
+    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)), 0.125);
+    poly.rebuildAll();
+    Viewer viewer(480, 240, "test", false);
+    viewer.syncChunks(poly);
+    ToolDraw tool;
+    tool.visible = false;
+    const core::Aabb box = core::meshBounds(poly.mesh());
+    // The clay is lit to at least 0.18 * 255: brighter than both the background and the
+    // black the correction leaves outside the lens's reach.
+    auto halfCoverage = [&](const LensCorrection& lens, int channel) {
+        viewer.draw(glm::dmat4(1.0), box, tool, StereoMode::SideBySide, StereoDisplay{}, lens);
+        const Image img = viewer.readFrame();
+        size_t n = 0;
+        for (int y = 0; y < img.height; ++y)
+            for (int x = 0; x < img.width / 2; ++x)
+                n += img.pixel(x, y)[channel] > 42;
+        return double(n) / (double(img.width / 2) * img.height);
+    };
+    const double plain = halfCoverage(LensCorrection{}, 1);
+    // No-op correction parameters take the direct path: same picture.
+    EXPECT_NEAR(halfCoverage(LensCorrection{0, 0, 1, 1}, 1), plain, 1e-12);
+    // Barrel pre-distortion samples further out: the sculpture shrinks towards the centre.
+    const double barrel = halfCoverage(LensCorrection{0.3, 0.1, 1, 1}, 1);
+    EXPECT_LT(barrel, plain * 0.9);
+    EXPECT_GT(barrel, plain * 0.2);
+    // Chromatic correction scales red and blue differently from green.
+    LensCorrection ca{0.3, 0.1, 0.9, 1.1};
+    const double red = halfCoverage(ca, 0), blue = halfCoverage(ca, 2);
+    EXPECT_GT(red, blue * 1.05);
+}
+
+}  // namespace

@@ -11,7 +11,7 @@ namespace vsculpt::app {
 
 struct WindowOptions {
     std::string configPath;  ///< "" = configs/sculpt.json
-    std::string stereo = "mono";
+    std::string stereo;      ///< "" = the config's render.stereo
     int width = 1280, height = 800;
     int frames = 0;          ///< stop after this many frames (0: until closed) — tests, demos
     std::string playScript;  ///< run this script first (one command per frame)

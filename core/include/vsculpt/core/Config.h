@@ -68,6 +68,16 @@ struct InteractionConfig {
     double rotateRadPerPixel = 0.01;      ///< right-drag turns the object by this per pixel
 };
 
+/// The display: stereo, eyes, and a headset's lenses (the window, docs/window.md).
+struct RenderConfig {
+    std::string stereo = "mono";    ///< mono, sbs or anaglyph
+    double ipdMm = 63.0;            ///< interpupillary distance
+    double verticalFovDeg = 40.0;   ///< per-eye vertical field of view
+    int fullscreenMonitor = -1;     ///< -1: a window; 0, 1, ...: full screen on that monitor
+    double lensK1 = 0, lensK2 = 0;  ///< radial pre-distortion (sbs only)
+    double lensRedScale = 1, lensBlueScale = 1;  ///< chromatic aberration correction
+};
+
 struct SculptConfig {
     // tools
     double d4Mm = 10.0;                ///< diameter of the level-4 tool, mm
@@ -89,6 +99,7 @@ struct SculptConfig {
     ZoomConfig zoom;
     PolygonizerConfig polygonizer;
     InteractionConfig interaction;
+    RenderConfig render;
 
     /// Where the values came from ("built-in defaults" or a file path), for messages.
     std::string source = "built-in defaults";

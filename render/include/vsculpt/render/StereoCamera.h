@@ -36,7 +36,8 @@ std::array<EyeView, 2> stereoEyes(const glm::dmat4& worldFromHead, const StereoD
 
 /// The head pose and display that frame a box from the front (-y looking +y, z up): the
 /// box's bounding sphere fits the view, and the zero-parallax plane passes through its
-/// centre. `display` keeps its IPD; its fov, aspect, focal distance and clip planes are set.
+/// centre. `display` keeps its IPD and field of view; aspect, focal distance and clip planes
+/// are set.
 glm::dmat4 frameFromFront(const glm::dvec3& boxMin, const glm::dvec3& boxMax, double aspect,
                           StereoDisplay& display);
 

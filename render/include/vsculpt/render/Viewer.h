@@ -38,6 +38,16 @@ struct ToolDraw {
     core::Vec3 shadowPos{0.0};
 };
 
+/// Correction for a headset's lenses in side-by-side mode: each eye's image is resampled
+/// with radial (barrel) pre-distortion r' = r (1 + k1 r^2 + k2 r^4), r measured from the eye
+/// image's centre in units of its half-height, and the red and blue channels scaled by their
+/// own factors against the lens's chromatic aberration. All zero/one: no correction.
+struct LensCorrection {
+    double k1 = 0, k2 = 0;
+    double redScale = 1, blueScale = 1;
+    bool active() const { return k1 != 0 || k2 != 0 || redScale != 1 || blueScale != 1; }
+};
+
 struct FrameStats {
     size_t chunksUploaded = 0, chunksDrawn = 0, triangles = 0;
     double cpuMs = 0;  ///< CPU time spent in draw() (upload + draw calls)
@@ -64,7 +74,10 @@ class Viewer {
     /// Draws the scene. `worldFromObject`: the sculpture's pose; the camera frames `focus`
     /// (object space) at `distanceMm`.
     FrameStats draw(const glm::dmat4& worldFromObject, const core::Aabb& frameBox,
-                    const ToolDraw& tool, StereoMode mode, const StereoDisplay& display);
+                    const ToolDraw& tool, StereoMode mode, const StereoDisplay& display,
+                    const LensCorrection& lens = {});
+    /// Full screen on monitor `index` (0 = primary); false when there is no such monitor.
+    bool goFullscreen(int index);
     void swap();
     Image readFrame();
 

@@ -118,7 +118,9 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
     Aabb frameBox = meshBounds(session.view().mesh());
     int framedZoom = session.zoom();
 
+    std::vector<render::PaletteItem> palette;
     while (running) {
+        palette = render::layoutPalette(ui.offeredSizes(), session.size(), session.zoom());
         const auto t0 = std::chrono::steady_clock::now();
         // Scripted commands first (one per frame), then live input.
         if (commandIndex < script.commands.size()) {
@@ -161,6 +163,21 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
                 }
             }
             if (ev.kind == K::MouseButton) {
+                // A click on the palette jumps instead of sculpting.
+                double nx = 0, ny = 0;
+                viewer->pixelToEyeNdc(cursorX, cursorY, mode, nx, ny);
+                const render::PaletteItem* hit = render::pickPalette(palette, nx, ny);
+                if (ev.code == GLFW_MOUSE_BUTTON_LEFT && ev.pressed && hit) {
+                    try {
+                        if (hit->kind == render::PaletteItem::Kind::Size)
+                            ui.jumpToSize(hit->value);
+                        else
+                            ui.jumpToZoom(hit->value, toolObject);
+                    } catch (const std::exception& e) {
+                        err << "vsculpt: " << e.what() << "\n";
+                    }
+                    continue;
+                }
                 if (ev.code == GLFW_MOUSE_BUTTON_LEFT) ui.setEngaged(ev.pressed);
                 if (ev.code == GLFW_MOUSE_BUTTON_RIGHT) rotating = ev.pressed;
             }
@@ -238,7 +255,7 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
             framedZoom = session.zoom();
         }
         const render::FrameStats st =
-            viewer->draw(worldFromObject, frameBox, tool, mode, display, lens);
+            viewer->draw(worldFromObject, frameBox, tool, mode, display, lens, palette);
         ++frame;
         const bool last = o.frames > 0 && frame >= size_t(o.frames);
         if (last && !o.shotPath.empty()) {

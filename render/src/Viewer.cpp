@@ -114,8 +114,21 @@ void main() {
     color = vec4(channel(d * scaleRB.x, 0), channel(d, 1), channel(d * scaleRB.y, 2), 1.0);
 })";
 
+static const char* kPaletteVertex = R"(#version 330 core
+uniform vec4 rect;  // x0, y0, x1, y1 in NDC
+void main() {
+    vec2 corner = vec2(gl_VertexID & 1, (gl_VertexID >> 1) & 1);
+    gl_Position = vec4(mix(rect.xy, rect.zw, corner), 0.0, 1.0);
+})";
+
+static const char* kPaletteFragment = R"(#version 330 core
+uniform vec3 fill;
+out vec4 color;
+void main() { color = vec4(fill, 1.0); })";
+
 struct Viewer::Impl {
     detail::WindowPtr window;
+    GLuint paletteProgram = 0;
     GLuint postProgram = 0, postVao = 0;
     GLuint eyeFbo = 0, eyeColor = 0, eyeDepth = 0;
     int eyeW = 0, eyeH = 0;
@@ -158,6 +171,7 @@ Viewer::Viewer(int width, int height, const std::string& title, bool visible)
     mImpl->tintLoc = glGetUniformLocation(mImpl->program, "tint");
     mImpl->sphere.upload(unitSphere(16, 32));
     mImpl->postProgram = detail::linkProgram(kPostVertex, kPostFragment);
+    mImpl->paletteProgram = detail::linkProgram(kPaletteVertex, kPaletteFragment);
     glGenVertexArrays(1, &mImpl->postVao);
     glfwSwapInterval(0);
     detail::checkGl("Viewer setup");
@@ -171,6 +185,7 @@ Viewer::~Viewer() {
     mImpl->sphere.release();
     glDeleteProgram(mImpl->program);
     glDeleteProgram(mImpl->postProgram);
+    glDeleteProgram(mImpl->paletteProgram);
     glDeleteVertexArrays(1, &mImpl->postVao);
     if (mImpl->eyeFbo) {
         glDeleteFramebuffers(1, &mImpl->eyeFbo);
@@ -231,7 +246,7 @@ size_t Viewer::syncChunks(const core::Polygonizer& view) {
 
 FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& frameBox,
                         const ToolDraw& tool, StereoMode mode, const StereoDisplay& displayIn,
-                        const LensCorrection& lens) {
+                        const LensCorrection& lens, const std::vector<PaletteItem>& palette) {
     const auto t0 = std::chrono::steady_clock::now();
     FrameStats stats;
     const int w = width(), h = height();
@@ -345,6 +360,24 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
                 mImpl->sphere.draw();
             }
         }
+        if (!palette.empty()) {
+            // The palette: flat quads at the same NDC in each eye (screen depth in stereo).
+            glDisable(GL_DEPTH_TEST);
+            glUseProgram(mImpl->paletteProgram);
+            glBindVertexArray(mImpl->postVao);
+            for (const PaletteItem& it : palette) {
+                const glm::vec3 fill = it.current ? glm::vec3(1.0f, 0.85f, 0.25f)
+                                       : it.kind == PaletteItem::Kind::Size
+                                           ? glm::vec3(0.75f, 0.78f, 0.85f)
+                                           : glm::vec3(0.45f, 0.6f, 0.9f);
+                glUniform4f(glGetUniformLocation(mImpl->paletteProgram, "rect"), float(it.x0),
+                            float(it.y0), float(it.x1), float(it.y1));
+                glUniform3fv(glGetUniformLocation(mImpl->paletteProgram, "fill"), 1,
+                             glm::value_ptr(fill));
+                glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+            }
+            glEnable(GL_DEPTH_TEST);
+        }
         if (corrected) {
             // Resample this eye through the lens correction into its half of the window.
             glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -370,6 +403,18 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
     stats.cpuMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return stats;
+}
+
+void Viewer::pixelToEyeNdc(double x, double y, StereoMode mode, double& nx, double& ny) const {
+    int w = 0, h = 0;
+    glfwGetWindowSize(mImpl->window.get(), &w, &h);
+    double ex = x, ew = std::max(1, w);
+    if (mode == StereoMode::SideBySide) {
+        ew = std::max(1, w / 2);
+        if (ex >= ew) ex -= ew;
+    }
+    nx = (ex + 0.5) / ew * 2 - 1;
+    ny = 1 - (y + 0.5) / std::max(1, h) * 2;
 }
 
 bool Viewer::goFullscreen(int index) {

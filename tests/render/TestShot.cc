@@ -178,6 +178,34 @@ TEST(Viewer, DrawsChunksAndReuploadsOnlyChangedOnes) {
 
 namespace {
 
+TEST(Viewer, PaletteIsDrawnAtTheSamePlaceInBothEyes) {
+    core::SculptConfig cfg;
+    cfg.sphereRadiusMm = 30;
+    cfg.polygonizer.gridN = 32;
+    core::Sculpture s(cfg);
+    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)), 0.125);
+    poly.rebuildAll();
+    Viewer viewer(480, 240, "test", false);
+    viewer.syncChunks(poly);
+    ToolDraw tool;
+    tool.visible = false;
+    const auto palette = layoutPalette({7, 6, 5}, 6, 1);
+    viewer.draw(glm::dmat4(1.0), core::meshBounds(poly.mesh()), tool, StereoMode::SideBySide,
+                StereoDisplay{}, LensCorrection{}, palette);
+    const Image img = viewer.readFrame();
+    for (const PaletteItem& it : palette) {
+        // The item's centre, in each half of the window: the same colour in both eyes.
+        const double cx = 0.5 * (it.x0 + it.x1), cy = 0.5 * (it.y0 + it.y1);
+        const int px = int((cx + 1) / 2 * (img.width / 2)), py = int((1 - cy) / 2 * img.height);
+        const uint8_t* l = img.pixel(px, py);
+        const uint8_t* r = img.pixel(px + img.width / 2, py);
+        for (int c = 0; c < 3; ++c)
+            EXPECT_EQ(l[c], r[c]);
+        if (it.current) EXPECT_GT(int(l[0]), 200);    // the current size and zoom are yellow
+        EXPECT_GT(int(l[0]) + l[1] + l[2], 3 * 100);  // brighter than the background
+    }
+}
+
 TEST(Viewer, LensCorrectionResamplesEachEye) {
     core::SculptConfig cfg;
     cfg.sphereRadiusMm = 30;

@@ -78,3 +78,32 @@ TEST(StereoCamera, RejectsImpossibleDisplays) {
 }
 
 }  // namespace
+
+#include "vsculpt/render/Palette.h"
+
+namespace {
+
+TEST(Palette, OffersExactlyTheAllowedSizesAndEveryZoomLevel) {
+    const auto items = layoutPalette({5, 4, 3}, 4, 3);
+    std::vector<int> sizes, zooms;
+    for (const PaletteItem& it : items) {
+        (it.kind == PaletteItem::Kind::Size ? sizes : zooms).push_back(it.value);
+        EXPECT_EQ(it.current, it.kind == PaletteItem::Kind::Size ? it.value == 4 : it.value == 3);
+        EXPECT_LT(it.x0, it.x1);
+        EXPECT_GE(it.x0, -1.0);
+        EXPECT_LE(it.x1, 1.0);
+    }
+    EXPECT_EQ(sizes, (std::vector<int>{5, 4, 3}));
+    EXPECT_EQ(zooms, (std::vector<int>{1, 2, 3, 4, 5}));
+    for (size_t i = 1; i < items.size(); ++i)
+        EXPECT_GT(items[i].x0, items[i - 1].x1);  // no overlap
+    for (const PaletteItem& it : items) {
+        const PaletteItem* p = pickPalette(items, 0.5 * (it.x0 + it.x1), 0.5 * (it.y0 + it.y1));
+        ASSERT_NE(p, nullptr);
+        EXPECT_EQ(p->value, it.value);
+        EXPECT_EQ(p->kind, it.kind);
+    }
+    EXPECT_EQ(pickPalette(items, 0, 0), nullptr);  // the middle of the view is for sculpting
+}
+
+}  // namespace

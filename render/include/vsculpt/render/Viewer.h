@@ -7,6 +7,7 @@
 #pragma once
 
 #include "vsculpt/core/Polygonizer.h"
+#include "vsculpt/render/Palette.h"
 #include "vsculpt/render/Shot.h"
 #include "vsculpt/render/StereoCamera.h"
 
@@ -75,7 +76,10 @@ class Viewer {
     /// (object space) at `distanceMm`.
     FrameStats draw(const glm::dmat4& worldFromObject, const core::Aabb& frameBox,
                     const ToolDraw& tool, StereoMode mode, const StereoDisplay& display,
-                    const LensCorrection& lens = {});
+                    const LensCorrection& lens = {}, const std::vector<PaletteItem>& palette = {});
+    /// Where a window pixel falls in an eye's NDC (the eye under it in side-by-side mode),
+    /// for picking palette items.
+    void pixelToEyeNdc(double x, double y, StereoMode mode, double& ndcX, double& ndcY) const;
     /// Full screen on monitor `index` (0 = primary); false when there is no such monitor.
     bool goFullscreen(int index);
     void swap();

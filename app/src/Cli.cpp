@@ -87,6 +87,10 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
                      "Mesh grid spacing in mm (default: zoom 3's, for fine detail)")
         ->check(CLI::PositiveNumber);
     renderCmd->add_option("--config", still.configPath, "Config for a script");
+    renderCmd->add_option("--yaw", still.yawDeg,
+                          "Camera: turn the sculpture about the vertical (z) axis, degrees");
+    renderCmd->add_option("--pitch", still.pitchDeg,
+                          "Camera: tilt the sculpture about the horizontal (x) axis, degrees");
 
     try {
         cli.parse(argc, argv);

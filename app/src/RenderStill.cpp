@@ -51,7 +51,16 @@ int runRenderStill(const RenderOptions& o, std::ostream& out, std::ostream& err)
                                    ? o.spacingMm
                                    : core::zoomSpacing(session->sculpture().config(),
                                                        session->sculpture().levels(), 3);
-        const core::Mesh mesh = session->wholeMesh(spacing);
+        core::Mesh mesh = session->wholeMesh(spacing);
+        // The camera looks from the front (-y, z up); yaw and pitch turn the sculpture.
+        const core::RigidTransform turn{
+            glm::angleAxis(glm::radians(o.pitchDeg), core::Vec3(1, 0, 0)) *
+                glm::angleAxis(glm::radians(o.yawDeg), core::Vec3(0, 0, 1)),
+            core::Vec3(0.0)};
+        for (core::Vec3& p : mesh.positions)
+            p = turn.apply(p);
+        for (core::Vec3& n : mesh.normals)
+            n = turn.applyToVector(n);
         render::RayTraceOptions ro;
         ro.width = w;
         ro.height = h;

@@ -100,7 +100,8 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
     glm::dmat4 worldFromObject(1.0);  // the object's pose, turned by right-dragging
     double yaw = 0, pitch = 0;
     double cursorX = o.width / 2.0, cursorY = o.height / 2.0, lastX = cursorX, lastY = cursorY;
-    bool rotating = false;
+    bool rotating = false, moving = false;
+    glm::dvec3 offset(0.0);  // the object's translation in the world, from middle-dragging
     double depthOffset = 0;  // mm along the pointer ray, from the scroll wheel
     size_t commandIndex = 0, frame = 0;
     double frameMs = 0;
@@ -180,6 +181,7 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
                 }
                 if (ev.code == GLFW_MOUSE_BUTTON_LEFT) ui.setEngaged(ev.pressed);
                 if (ev.code == GLFW_MOUSE_BUTTON_RIGHT) rotating = ev.pressed;
+                if (ev.code == GLFW_MOUSE_BUTTON_MIDDLE) moving = ev.pressed;
             }
             if (ev.kind == K::Cursor) {
                 lastX = cursorX;
@@ -189,6 +191,13 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
                 if (rotating) {
                     yaw += (cursorX - lastX) * cfg.interaction.rotateRadPerPixel;
                     pitch += (cursorY - lastY) * cfg.interaction.rotateRadPerPixel;
+                }
+                if (moving) {
+                    // In the view plane (x right, z up), scaled to the framed sculpture.
+                    const double mmPerPixel =
+                        glm::length(frameBox.max - frameBox.min) / std::max(1, viewer->height());
+                    offset += glm::dvec3((cursorX - lastX) * mmPerPixel, 0,
+                                         -(cursorY - lastY) * mmPerPixel);
                 }
             }
             if (ev.kind == K::Scroll)

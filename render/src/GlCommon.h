@@ -9,10 +9,12 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include "vsculpt/core/Mesh.h"
 #include "vsculpt/render/Shot.h"
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace vsculpt::render::detail {
 
@@ -33,6 +35,52 @@ GLuint clayProgram();
 
 /// Compiles and links a program from vertex and fragment sources.
 GLuint linkProgram(const char* vertex, const char* fragment);
+
+/// A mesh in GL buffers: positions and normals interleaved (attributes 0 and 1), 32-bit
+/// indices. Plain data: release() frees it (the context must be current).
+struct GpuMesh {
+    GLuint vao = 0, vbo = 0, ibo = 0;
+    GLsizei count = 0;
+    uint64_t version = 0;
+    void release() {
+        if (vbo) glDeleteBuffers(1, &vbo);
+        if (ibo) glDeleteBuffers(1, &ibo);
+        if (vao) glDeleteVertexArrays(1, &vao);
+        *this = GpuMesh{};
+    }
+    void upload(const core::Mesh& m) {
+        if (!vao) {
+            glGenVertexArrays(1, &vao);
+            glGenBuffers(1, &vbo);
+            glGenBuffers(1, &ibo);
+        }
+        std::vector<float> data;
+        data.reserve(m.positions.size() * 6);
+        for (size_t i = 0; i < m.positions.size(); ++i) {
+            const core::Vec3 n = i < m.normals.size() ? m.normals[i] : core::Vec3(0, 0, 1);
+            for (double v : {m.positions[i].x, m.positions[i].y, m.positions[i].z, n.x, n.y, n.z})
+                data.push_back(float(v));
+        }
+        glBindVertexArray(vao);
+        glBindBuffer(GL_ARRAY_BUFFER, vbo);
+        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(float)), data.data(),
+                     GL_STATIC_DRAW);
+        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+        glEnableVertexAttribArray(0);
+        glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
+                              reinterpret_cast<void*>(3 * sizeof(float)));
+        glEnableVertexAttribArray(1);
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(m.indices.size() * sizeof(uint32_t)),
+                     m.indices.data(), GL_STATIC_DRAW);
+        count = GLsizei(m.indices.size());
+    }
+    void draw() const {
+        if (!count) return;
+        glBindVertexArray(vao);
+        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
+    }
+};
 
 /// Throws RenderError naming the GL error, if any.
 void checkGl(const char* what);

@@ -54,31 +54,8 @@ Image renderShot(const core::Mesh& mesh, const ShotOptions& o) {
 
     const GLuint program = detail::clayProgram();
 
-    // Mesh upload (float positions and normals, 32-bit indices).
-    std::vector<float> vertexData;
-    vertexData.reserve(mesh.positions.size() * 6);
-    for (size_t i = 0; i < mesh.positions.size(); ++i) {
-        const core::Vec3 n = i < mesh.normals.size() ? mesh.normals[i] : core::Vec3(0, 0, 1);
-        for (double v :
-             {mesh.positions[i].x, mesh.positions[i].y, mesh.positions[i].z, n.x, n.y, n.z})
-            vertexData.push_back(float(v));
-    }
-    GLuint vao = 0, vbo = 0, ibo = 0;
-    glGenVertexArrays(1, &vao);
-    glBindVertexArray(vao);
-    glGenBuffers(1, &vbo);
-    glBindBuffer(GL_ARRAY_BUFFER, vbo);
-    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertexData.size() * sizeof(float)), vertexData.data(),
-                 GL_STATIC_DRAW);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
-                          reinterpret_cast<void*>(3 * sizeof(float)));
-    glEnableVertexAttribArray(1);
-    glGenBuffers(1, &ibo);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.indices.size() * sizeof(uint32_t)),
-                 mesh.indices.data(), GL_STATIC_DRAW);
+    detail::GpuMesh gpu;
+    gpu.upload(mesh);
 
     const core::Aabb box = core::meshBounds(mesh);
     StereoDisplay d = o.display;
@@ -116,7 +93,7 @@ Image renderShot(const core::Mesh& mesh, const ShotOptions& o) {
         glUniformMatrix4fv(clipLoc, 1, GL_FALSE, glm::value_ptr(clip));
         glUniform3f(eyeLoc, float(eye.worldPosition.x), float(eye.worldPosition.y),
                     float(eye.worldPosition.z));
-        glDrawElements(GL_TRIANGLES, GLsizei(mesh.indices.size()), GL_UNSIGNED_INT, nullptr);
+        gpu.draw();
     }
     glFinish();
     detail::checkGl("renderShot");
@@ -132,9 +109,7 @@ Image renderShot(const core::Mesh& mesh, const ShotOptions& o) {
         std::copy_n(rows.data() + size_t(o.height - 1 - y) * o.width * 4, size_t(o.width) * 4,
                     img.rgba.data() + size_t(y) * o.width * 4);
 
-    glDeleteBuffers(1, &vbo);
-    glDeleteBuffers(1, &ibo);
-    glDeleteVertexArrays(1, &vao);
+    gpu.release();
     glDeleteProgram(program);
     glDeleteRenderbuffers(1, &color);
     glDeleteRenderbuffers(1, &depth);

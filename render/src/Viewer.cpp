@@ -16,50 +16,6 @@ namespace vsculpt::render {
 
 namespace {
 
-struct GpuMesh {
-    GLuint vao = 0, vbo = 0, ibo = 0;
-    GLsizei count = 0;
-    uint64_t version = 0;
-    void release() {
-        if (vbo) glDeleteBuffers(1, &vbo);
-        if (ibo) glDeleteBuffers(1, &ibo);
-        if (vao) glDeleteVertexArrays(1, &vao);
-        *this = GpuMesh{};
-    }
-    void upload(const core::Mesh& m) {
-        if (!vao) {
-            glGenVertexArrays(1, &vao);
-            glGenBuffers(1, &vbo);
-            glGenBuffers(1, &ibo);
-        }
-        std::vector<float> data;
-        data.reserve(m.positions.size() * 6);
-        for (size_t i = 0; i < m.positions.size(); ++i) {
-            const core::Vec3 n = i < m.normals.size() ? m.normals[i] : core::Vec3(0, 0, 1);
-            for (double v : {m.positions[i].x, m.positions[i].y, m.positions[i].z, n.x, n.y, n.z})
-                data.push_back(float(v));
-        }
-        glBindVertexArray(vao);
-        glBindBuffer(GL_ARRAY_BUFFER, vbo);
-        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(float)), data.data(),
-                     GL_STATIC_DRAW);
-        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
-        glEnableVertexAttribArray(0);
-        glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
-                              reinterpret_cast<void*>(3 * sizeof(float)));
-        glEnableVertexAttribArray(1);
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);
-        glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(m.indices.size() * sizeof(uint32_t)),
-                     m.indices.data(), GL_STATIC_DRAW);
-        count = GLsizei(m.indices.size());
-    }
-    void draw() const {
-        if (!count) return;
-        glBindVertexArray(vao);
-        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
-    }
-};
-
 /// A unit sphere (for the tool), latitude-longitude.
 core::Mesh unitSphere(int rings, int segments) {
     core::Mesh m;
@@ -136,8 +92,8 @@ struct Viewer::Impl {
     GLint clipLoc = -1, worldFromObjectLoc = -1, eyeLoc = -1, tintLoc = -1;
     const core::Polygonizer* view = nullptr;
     core::GridRegion region;
-    std::map<std::array<int, 3>, GpuMesh> chunks;
-    GpuMesh sphere;
+    std::map<std::array<int, 3>, detail::GpuMesh> chunks;
+    detail::GpuMesh sphere;
     std::vector<InputEvent> events;
     EyeView monoEye;
 };
@@ -236,7 +192,7 @@ size_t Viewer::syncChunks(const core::Polygonizer& view) {
                 if (version == 0) continue;  // never had triangles
                 auto it = mImpl->chunks.find({x, y, z});
                 if (it != mImpl->chunks.end() && it->second.version == version) continue;
-                GpuMesh& g = mImpl->chunks[{x, y, z}];
+                detail::GpuMesh& g = mImpl->chunks[{x, y, z}];
                 g.upload(view.chunkMesh(x, y, z));
                 g.version = version;
                 ++uploads;

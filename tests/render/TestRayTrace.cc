@@ -4,6 +4,8 @@
 #include "vsculpt/core/Sculpture.h"
 #include "vsculpt/render/RayTrace.h"
 
+#include "TestScene.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -14,17 +16,7 @@ using core::Vec3;
 
 namespace {
 
-core::Mesh sculptureMesh() {
-    core::SculptConfig cfg;
-    cfg.sphereRadiusMm = 30;
-    cfg.polygonizer.gridN = 64;
-    core::Sculpture s(cfg);
-    core::applyStroke(s, core::ToolOp::Add, 5,
-                      std::vector<Vec3>{Vec3(-45, -10, 0), Vec3(45, -10, 10)});
-    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, Vec3(0)), 0.125);
-    poly.rebuildAll();
-    return poly.mesh();
-}
+using vsculpt::test::sculptureMesh;
 
 TEST(RayTrace, PrimaryHitsLieOnTheMesh) {
     const core::Mesh mesh = sculptureMesh();

@@ -7,6 +7,8 @@
 #include "vsculpt/render/RayTrace.h"
 #include "vsculpt/render/Shot.h"
 
+#include "TestScene.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -16,17 +18,7 @@ using namespace vsculpt::render;
 
 namespace {
 
-core::Mesh sculptureMesh() {
-    core::SculptConfig cfg;
-    cfg.sphereRadiusMm = 30;
-    cfg.polygonizer.gridN = 64;
-    core::Sculpture s(cfg);
-    core::applyStroke(s, core::ToolOp::Add, 5,
-                      std::vector<core::Vec3>{core::Vec3(-45, -10, 0), core::Vec3(45, -10, 10)});
-    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)), 0.125);
-    poly.rebuildAll();
-    return poly.mesh();
-}
+using vsculpt::test::sculptureMesh;
 
 bool foreground(const uint8_t* p, int channel) {
     return std::abs(int(p[channel]) - int(kBackground[channel])) > 12;

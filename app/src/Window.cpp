@@ -4,6 +4,7 @@
 #include "vsculpt/app/Interaction.h"
 #include "vsculpt/app/Session.h"
 #include "vsculpt/core/EvalField.h"
+#include "vsculpt/render/RayTrace.h"
 #include "vsculpt/render/Viewer.h"
 
 #define GLFW_INCLUDE_NONE
@@ -119,7 +120,22 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
     Aabb frameBox = meshBounds(session.view().mesh());
     int framedZoom = session.zoom();
 
+    // The region to zoom into: the surface point under the pointer, picked with Embree on the
+    // mesh on show (built only when a zoom is asked for); the tool centre when nothing is hit.
+    auto zoomTarget = [&](const Vec3& fallback) {
+        const Mesh mesh = session.view().mesh();
+        if (mesh.triangleCount() == 0) return fallback;
+        Vec3 origin, dir;
+        viewer->pixelRay(cursorX, cursorY, origin, dir);
+        const glm::dmat4 objectFromWorld = glm::inverse(worldFromObject);
+        const render::RayScene scene(mesh);
+        const auto hit = scene.intersect(Vec3(objectFromWorld * glm::dvec4(origin, 1)),
+                                         Vec3(objectFromWorld * glm::dvec4(dir, 0)));
+        return hit ? hit->position : fallback;
+    };
     std::vector<render::PaletteItem> palette;
+    // Where the tool last was over the sculpture (not over the palette): palette zoom centre.
+    Vec3 lastSculptPoint(0.0);
     while (running) {
         palette = render::layoutPalette(ui.offeredSizes(), session.size(), session.zoom());
         const auto t0 = std::chrono::steady_clock::now();
@@ -146,11 +162,12 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
                     else if (a == "cycle_tool")
                         ui.cycleTool();
                     else if (a == "step")
-                        ui.step(toolObject);
+                        ui.step(session.tool() == ToolKind::Select ? zoomTarget(toolObject)
+                                                                   : toolObject);
                     else if (a.rfind("size_", 0) == 0)
                         ui.jumpToSize(a.back() - '0');
                     else if (a == "zoom_in")
-                        ui.jumpToZoom(std::min(5, session.zoom() + 1), toolObject);
+                        ui.jumpToZoom(std::min(5, session.zoom() + 1), zoomTarget(toolObject));
                     else if (a == "zoom_out")
                         ui.jumpToZoom(std::max(1, session.zoom() - 1), toolObject);
                     else if (a == "overview")
@@ -173,7 +190,7 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
                         if (hit->kind == render::PaletteItem::Kind::Size)
                             ui.jumpToSize(hit->value);
                         else
-                            ui.jumpToZoom(hit->value, toolObject);
+                            ui.jumpToZoom(hit->value, lastSculptPoint);
                     } catch (const std::exception& e) {
                         err << "vsculpt: " << e.what() << "\n";
                     }
@@ -227,6 +244,11 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
         // The tool rests on the surface (touching it); the scroll wheel pushes it in or out.
         const double toolRadius = 0.5 * level.diameterMm;
         const Vec3 toolObject = oObj + (hitT - toolRadius + depthOffset) * dObj;
+        {
+            double nx = 0, ny = 0;
+            viewer->pixelToEyeNdc(cursorX, cursorY, mode, nx, ny);
+            if (!render::pickPalette(palette, nx, ny)) lastSculptPoint = oObj + hitT * dObj;
+        }
         toolWorld = Vec3(worldFromObject * glm::dvec4(toolObject, 1));
         try {
             ui.moveTool(toolWorld);
@@ -263,8 +285,13 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
             if (!b.empty()) frameBox = b;
             framedZoom = session.zoom();
         }
-        const render::FrameStats st =
-            viewer->draw(worldFromObject, frameBox, tool, mode, display, lens, palette);
+        const render::FrameStats st = viewer->draw(
+            worldFromObject, frameBox, tool, mode, display, lens, palette,
+            render::statusQuads({session.tool() == ToolKind::Add     ? 0
+                                 : session.tool() == ToolKind::Carve ? 1
+                                                                     : 2,
+                                 session.size(), session.zoom(),
+                                 long(session.sculpture().counts().total()), frameMs}));
         ++frame;
         const bool last = o.frames > 0 && frame >= size_t(o.frames);
         if (last && !o.shotPath.empty()) {

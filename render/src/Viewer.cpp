@@ -202,7 +202,8 @@ size_t Viewer::syncChunks(const core::Polygonizer& view) {
 
 FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& frameBox,
                         const ToolDraw& tool, StereoMode mode, const StereoDisplay& displayIn,
-                        const LensCorrection& lens, const std::vector<PaletteItem>& palette) {
+                        const LensCorrection& lens, const std::vector<PaletteItem>& palette,
+                        const std::vector<OverlayQuad>& overlay) {
     const auto t0 = std::chrono::steady_clock::now();
     FrameStats stats;
     const int w = width(), h = height();
@@ -316,22 +317,25 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
                 mImpl->sphere.draw();
             }
         }
-        if (!palette.empty()) {
-            // The palette: flat quads at the same NDC in each eye (screen depth in stereo).
+        if (!palette.empty() || !overlay.empty()) {
+            // Palette and status: flat quads at the same NDC in each eye (screen depth).
             glDisable(GL_DEPTH_TEST);
             glUseProgram(mImpl->paletteProgram);
             glBindVertexArray(mImpl->postVao);
-            for (const PaletteItem& it : palette) {
-                const glm::vec3 fill = it.current ? glm::vec3(1.0f, 0.85f, 0.25f)
-                                       : it.kind == PaletteItem::Kind::Size
-                                           ? glm::vec3(0.75f, 0.78f, 0.85f)
-                                           : glm::vec3(0.45f, 0.6f, 0.9f);
-                glUniform4f(glGetUniformLocation(mImpl->paletteProgram, "rect"), float(it.x0),
-                            float(it.y0), float(it.x1), float(it.y1));
+            auto quad = [&](double x0, double y0, double x1, double y1, const glm::vec3& fill) {
+                glUniform4f(glGetUniformLocation(mImpl->paletteProgram, "rect"), float(x0),
+                            float(y0), float(x1), float(y1));
                 glUniform3fv(glGetUniformLocation(mImpl->paletteProgram, "fill"), 1,
                              glm::value_ptr(fill));
                 glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
-            }
+            };
+            for (const PaletteItem& it : palette)
+                quad(it.x0, it.y0, it.x1, it.y1,
+                     it.current                           ? glm::vec3(1.0f, 0.85f, 0.25f)
+                     : it.kind == PaletteItem::Kind::Size ? glm::vec3(0.75f, 0.78f, 0.85f)
+                                                          : glm::vec3(0.45f, 0.6f, 0.9f));
+            for (const OverlayQuad& q : overlay)
+                quad(q.x0, q.y0, q.x1, q.y1, {q.r, q.g, q.b});
             glEnable(GL_DEPTH_TEST);
         }
         if (corrected) {

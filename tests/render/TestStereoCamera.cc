@@ -107,3 +107,31 @@ TEST(Palette, OffersExactlyTheAllowedSizesAndEveryZoomLevel) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Status, SevenSegmentDigitsAndTheStatusLine) {
+    // Segment counts of 0..9: 6 2 5 5 4 5 6 3 7 6.
+    const int segments[10] = {6, 2, 5, 5, 4, 5, 6, 3, 7, 6};
+    for (int d = 0; d < 10; ++d)
+        EXPECT_EQ(sevenSegmentNumber(d, 0, 0, 0.1).size(), size_t(segments[d]));
+    EXPECT_EQ(sevenSegmentNumber(1234, 0, 0, 0.1).size(), size_t(2 + 5 + 5 + 4));
+    // Digits advance to the right and stay inside their cell.
+    const auto q = sevenSegmentNumber(88, 0.1, 0.2, 0.1);
+    EXPECT_LT(q[0].x1, q[7].x0 + 1e-12);
+    for (const auto& r : q) {
+        EXPECT_GE(r.y0, 0.2 - 1e-12);
+        EXPECT_LE(r.y1, 0.3 + 1e-12);
+    }
+    // The status line: a tool-coloured square, then size 5, zoom 3, 1234 skeletons, 17 ms.
+    const auto s = statusQuads({1, 5, 3, 1234, 16.6});
+    EXPECT_EQ(s.size(), size_t(1 + 5 + 5 + 16 + 2 + 3));
+    EXPECT_GT(s[0].r, s[0].g);  // carve: red
+    for (const auto& r : s) {
+        EXPECT_GE(r.x0, -1.0);
+        EXPECT_LE(r.x1, 1.0);
+        EXPECT_GT(r.y0, 0.5);  // along the top edge, away from the palette
+    }
+}
+
+}  // namespace

@@ -26,4 +26,25 @@ std::vector<PaletteItem> layoutPalette(const std::vector<int>& offeredSizes, int
 /// The item under a point in the eye's NDC, or nullptr.
 const PaletteItem* pickPalette(const std::vector<PaletteItem>& items, double x, double y);
 
+/// A flat coloured rectangle drawn over the scene in each eye's NDC.
+struct OverlayQuad {
+    double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    float r = 1, g = 1, b = 1;
+};
+
+/// The status line along the top edge, readable in a headset where no title bar is: a square
+/// in the tool's colour (add green, carve red, select blue), then the size, the zoom level,
+/// the skeleton count and the frame time in milliseconds as seven-segment numbers.
+struct StatusLine {
+    int tool = 0;  ///< 0 add, 1 carve, 2 select
+    int size = 0, zoom = 0;
+    long skeletons = 0;
+    double frameMs = 0;
+};
+std::vector<OverlayQuad> statusQuads(const StatusLine& status);
+
+/// The quads of a non-negative integer in seven-segment digits, left edge at x, bottom at y,
+/// digit height h (NDC). Exposed for tests.
+std::vector<OverlayQuad> sevenSegmentNumber(long value, double x, double y, double h);
+
 }  // namespace vsculpt::render

@@ -76,7 +76,8 @@ class Viewer {
     /// (object space) at `distanceMm`.
     FrameStats draw(const glm::dmat4& worldFromObject, const core::Aabb& frameBox,
                     const ToolDraw& tool, StereoMode mode, const StereoDisplay& display,
-                    const LensCorrection& lens = {}, const std::vector<PaletteItem>& palette = {});
+                    const LensCorrection& lens = {}, const std::vector<PaletteItem>& palette = {},
+                    const std::vector<OverlayQuad>& overlay = {});
     /// Where a window pixel falls in an eye's NDC (the eye under it in side-by-side mode),
     /// for picking palette items.
     void pixelToEyeNdc(double x, double y, StereoMode mode, double& ndcX, double& ndcY) const;

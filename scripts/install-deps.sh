@@ -17,6 +17,11 @@ packages=(
   libglfw3-dev libepoxy-dev libpng-dev xvfb xauth libgl1-mesa-dri
   # ray-traced stills and picking
   libembree-dev
+  # devices: libusb transport, udev for hidraw enumeration; umockdev emulates USB devices
+  # for the transport tests
+  libusb-1.0-0-dev libudev-dev umockdev libumockdev-dev
+  # sketch geometry: constrained Delaunay triangulation and exact mesh booleans
+  libcgal-dev libgmp-dev libmpfr-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-format

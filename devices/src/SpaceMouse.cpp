@@ -19,20 +19,6 @@ std::optional<SpaceMouseSample> fail(DecodeStatus* status, DecodeStatus why) {
 
 }  // namespace
 
-const char* toString(DecodeStatus s) {
-    switch (s) {
-        case DecodeStatus::Ok:
-            return "ok";
-        case DecodeStatus::Empty:
-            return "empty report";
-        case DecodeStatus::Truncated:
-            return "truncated report";
-        case DecodeStatus::UnknownReport:
-            return "unknown report id";
-    }
-    return "?";
-}
-
 std::optional<SpaceMouseModel> findSpaceMouseModel(uint16_t vendor, uint16_t product) {
     // devices_report.md §2.1 (spacenavd's and VRPN's tables).
     static const SpaceMouseModel kModels[] = {

@@ -11,6 +11,8 @@
 /// descriptor's Rel flag says (the SpaceNavigator declares them relative).
 #pragma once
 
+#include "vsculpt/devices/DecodeStatus.h"
+
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -27,9 +29,6 @@ struct SpaceMouseModel {
 
 /// The known models, by USB vendor and product id; nullopt for anything else.
 std::optional<SpaceMouseModel> findSpaceMouseModel(uint16_t vendor, uint16_t product);
-
-enum class DecodeStatus { Ok, Empty, Truncated, UnknownReport };
-const char* toString(DecodeStatus s);
 
 struct SpaceMouseSample {
     int64_t timeNs = 0;  ///< monotonic clock of the host when read

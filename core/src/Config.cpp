@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -66,6 +67,7 @@ class Section {
         return Section(v ? *v : kEmpty, keyPath(key), mSource);
     }
     bool has(const std::string& key) const { return mObj.contains(key); }
+    const std::string& source() const { return mSource; }
     void rejectUnknown() const {
         for (auto it = mObj.begin(); it != mObj.end(); ++it) {
             if (it.key().rfind("_", 0) == 0) continue;  // "_comment" style keys are allowed
@@ -93,7 +95,157 @@ std::string lineColumn(std::string_view text, size_t byte) {
     return std::to_string(line) + ":" + std::to_string(col);
 }
 
+// USB ids are written either as numbers or as "0x046d" strings.
+int usbId(const Section& sec, const std::string& key, const json& v) {
+    long value = -1;
+    if (v.is_number_integer()) {
+        value = v.get<long>();
+    } else if (v.is_string()) {
+        const std::string text = v.get<std::string>();
+        char* end = nullptr;
+        value = std::strtol(text.c_str(), &end, 0);
+        if (text.empty() || *end != '\0') value = -1;
+    }
+    if (value < 0 || value > 0xffff)
+        sec.fail(key,
+                 "expected a USB id 0..0xffff (a number or a \"0x1234\" string), got " + v.dump());
+    return static_cast<int>(value);
+}
+
+void parseDevices(Section dev, DevicesConfig& out) {
+    if (const json* v = dev.find("transfers_in_flight")) {
+        if (!v->is_number_integer() || v->get<int>() < 1 || v->get<int>() > 32)
+            dev.fail("devices.transfers_in_flight", "expected an integer 1..32, got " + v->dump());
+        out.transfersInFlight = v->get<int>();
+    }
+    dev.number("stall_timeout_s", out.stallTimeoutS);
+    dev.number("rescan_interval_s", out.rescanIntervalS);
+    Section mouse = dev.sub("object_from_3d_mouse");
+    mouse.number("full_scale", out.mouseFullScale);
+    mouse.number("dead_zone", out.mouseDeadZone);
+    mouse.number("translate_mm_per_s", out.objectTranslateMmPerS);
+    mouse.number("rotate_deg_per_s", out.objectRotateDegPerS);
+    mouse.rejectUnknown();
+    Section tracker = dev.sub("tracker");
+    for (const char* key : {"pen_station", "head_station"}) {
+        if (const json* v = tracker.find(key)) {
+            if (!v->is_number_integer() || v->get<int>() < 1 || v->get<int>() > 16)
+                tracker.fail(std::string("devices.tracker.") + key,
+                             "expected a station number 1..16, got " + v->dump());
+            (std::string(key) == "pen_station" ? out.penStation : out.headStation) = v->get<int>();
+        }
+    }
+    tracker.vec3("world_from_tracker_translation_mm", out.worldFromTrackerTranslationMm);
+    tracker.vec3("world_from_tracker_rotation_deg", out.worldFromTrackerRotationDeg);
+    tracker.vec3("pen_tip_mm", out.penTipMm);
+    tracker.rejectUnknown();
+
+    if (const json* list = dev.find("match")) {
+        if (!list->is_array()) dev.fail("devices.match", "expected a list of devices");
+        out.match.clear();
+        for (size_t i = 0; i < list->size(); ++i) {
+            const std::string at = "devices.match[" + std::to_string(i) + "]";
+            Section m((*list)[i], at, dev.source());
+            DeviceMatchConfig d;
+            auto text = [&](const char* key, std::string& field, bool required) {
+                const json* v = m.find(key);
+                if (!v) {
+                    if (required) m.fail(at + "." + key, "missing");
+                    return;
+                }
+                if (!v->is_string() || v->get<std::string>().empty())
+                    m.fail(at + "." + key, "expected a non-empty string, got " + v->dump());
+                field = v->get<std::string>();
+            };
+            text("name", d.name, true);
+            text("driver", d.driver, true);
+            d.access = "hidraw";
+            text("access", d.access, false);
+            const auto& drivers = deviceDriverNames();
+            if (std::find(drivers.begin(), drivers.end(), d.driver) == drivers.end())
+                m.fail(at + ".driver",
+                       "unknown driver '" + d.driver +
+                           "' (known: spacemouse, polhemus, wacom, hid-digitizer, rift)");
+            if (d.access != "hidraw" && d.access != "libusb")
+                m.fail(at + ".access",
+                       "expected \"hidraw\" or \"libusb\", got \"" + d.access + "\"");
+            const json* vendor = m.find("vendor");
+            if (!vendor) m.fail(at + ".vendor", "missing");
+            d.vendor = usbId(m, at + ".vendor", *vendor);
+            const json* products = m.find("products");
+            if (!products || !products->is_array() || products->empty())
+                m.fail(at + ".products", "expected a non-empty list of USB product ids");
+            for (const json& p : *products)
+                d.products.push_back(usbId(m, at + ".products", p));
+            auto integer = [&](const char* key, int& field, int lo, int hi) {
+                const json* v = m.find(key);
+                if (!v) return;
+                const int value = v->is_string()           ? usbId(m, at + "." + key, *v)
+                                  : v->is_number_integer() ? v->get<int>()
+                                                           : -1;
+                if (value < lo || value > hi)
+                    m.fail(at + "." + key, "expected " + std::to_string(lo) + ".." +
+                                               std::to_string(hi) + ", got " + v->dump());
+                field = value;
+            };
+            integer("interface", d.interfaceNumber, 0, 255);
+            integer("in_endpoint", d.inEndpoint, 0, 255);
+            integer("out_endpoint", d.outEndpoint, 0, 255);
+            if (d.inEndpoint && !(d.inEndpoint & 0x80))
+                m.fail(at + ".in_endpoint", "an IN endpoint address has bit 0x80 set");
+            if (d.outEndpoint & 0x80)
+                m.fail(at + ".out_endpoint", "an OUT endpoint address has bit 0x80 clear");
+            for (const auto& other : out.match)
+                if (other.name == d.name) m.fail(at + ".name", "'" + d.name + "' is used twice");
+            m.rejectUnknown();
+            out.match.push_back(d);
+        }
+    }
+    dev.rejectUnknown();
+}
+
 }  // namespace
+
+const std::vector<std::string>& deviceDriverNames() {
+    static const std::vector<std::string> names = {"spacemouse", "polhemus", "wacom",
+                                                   "hid-digitizer", "rift"};
+    return names;
+}
+
+const std::vector<DeviceMatchConfig>& knownDeviceMatches() {
+    // devices_report.md §1.1 (Polhemus operational PIDs and endpoints), §2.1 (3Dconnexion),
+    // §3 (Wacom), §4.1 (Oculus). HID devices default to hidraw so the desktop keeps them.
+    static const std::vector<DeviceMatchConfig> known = {
+        {"spacemouse-logitech",
+         "spacemouse",
+         "hidraw",
+         0x046d,
+         {0xc603, 0xc605, 0xc606, 0xc621, 0xc623, 0xc625, 0xc626, 0xc627, 0xc628, 0xc629, 0xc62b},
+         0,
+         0,
+         0},
+        {"spacemouse-3dconnexion",
+         "spacemouse",
+         "hidraw",
+         0x256f,
+         {0xc62e, 0xc62f, 0xc631, 0xc632, 0xc633, 0xc635, 0xc636, 0xc638, 0xc63a, 0xc641},
+         0,
+         0,
+         0},
+        {"polhemus-liberty-hs", "polhemus", "libusb", 0x0f44, {0xff20, 0xef20}, 0, 0x88, 0x04},
+        {"polhemus", "polhemus", "libusb", 0x0f44, {0x0002, 0xff12, 0xef12}, 0, 0x82, 0x02},
+        {"rift", "rift", "hidraw", 0x2833, {0x0001, 0x0021, 0x0031}, 0, 0, 0},
+        {"wacom-tablet",
+         "hid-digitizer",
+         "hidraw",
+         0x056a,
+         {0x0042, 0x0314, 0x0315, 0x0374, 0x0375, 0x037a, 0x037b},
+         0,
+         0,
+         0},
+    };
+    return known;
+}
 
 SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceName) {
     json root;
@@ -247,8 +399,7 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
     lens.rejectUnknown();
     rend.rejectUnknown();
 
-    // The devices section is owned by the device layer (issue #6), accepted as it is here.
-    top.find("devices");
+    parseDevices(top.sub("devices"), cfg.devices);
     top.rejectUnknown();
 
     validateConfig(cfg);
@@ -304,6 +455,36 @@ std::string configToJson(const SculptConfig& c) {
                      {"k2", c.render.lensK2},
                      {"red_scale", c.render.lensRedScale},
                      {"blue_scale", c.render.lensBlueScale}}}};
+    {
+        json match = json::array();
+        for (const auto& d : c.devices.match)
+            match.push_back({{"name", d.name},
+                             {"driver", d.driver},
+                             {"access", d.access},
+                             {"vendor", d.vendor},
+                             {"products", d.products},
+                             {"interface", d.interfaceNumber},
+                             {"in_endpoint", d.inEndpoint},
+                             {"out_endpoint", d.outEndpoint}});
+        const Vec3& t = c.devices.worldFromTrackerTranslationMm;
+        const Vec3& r = c.devices.worldFromTrackerRotationDeg;
+        const Vec3& tip = c.devices.penTipMm;
+        j["devices"] = {{"transfers_in_flight", c.devices.transfersInFlight},
+                        {"stall_timeout_s", c.devices.stallTimeoutS},
+                        {"rescan_interval_s", c.devices.rescanIntervalS},
+                        {"object_from_3d_mouse",
+                         {{"full_scale", c.devices.mouseFullScale},
+                          {"dead_zone", c.devices.mouseDeadZone},
+                          {"translate_mm_per_s", c.devices.objectTranslateMmPerS},
+                          {"rotate_deg_per_s", c.devices.objectRotateDegPerS}}},
+                        {"tracker",
+                         {{"pen_station", c.devices.penStation},
+                          {"head_station", c.devices.headStation},
+                          {"world_from_tracker_translation_mm", {t.x, t.y, t.z}},
+                          {"world_from_tracker_rotation_deg", {r.x, r.y, r.z}},
+                          {"pen_tip_mm", {tip.x, tip.y, tip.z}}}}};
+        if (!c.devices.match.empty()) j["devices"]["match"] = match;
+    }
     j["interaction"] = {{"bindings", c.interaction.bindings},
                         {"depth_step_over_diameter", c.interaction.depthStepOverDiameter},
                         {"rotate_rad_per_pixel", c.interaction.rotateRadPerPixel}};
@@ -378,6 +559,23 @@ void validateConfig(const SculptConfig& c) {
     for (const auto& [key, v] : {std::pair{"render.lens.red_scale", c.render.lensRedScale},
                                  std::pair{"render.lens.blue_scale", c.render.lensBlueScale}})
         if (!(std::isfinite(v) && v >= 0.5 && v <= 2)) fail(key, "must be in [0.5, 2]");
+    const DevicesConfig& d = c.devices;
+    if (!(std::isfinite(d.stallTimeoutS) && d.stallTimeoutS >= 0.1 && d.stallTimeoutS <= 60))
+        fail("devices.stall_timeout_s",
+             "must be in [0.1, 60] s (got " + num(d.stallTimeoutS) + ")");
+    if (!(std::isfinite(d.rescanIntervalS) && d.rescanIntervalS >= 0.01 && d.rescanIntervalS <= 60))
+        fail("devices.rescan_interval_s",
+             "must be in [0.01, 60] s (got " + num(d.rescanIntervalS) + ")");
+    if (!(std::isfinite(d.mouseFullScale) && d.mouseFullScale > 0))
+        fail("devices.object_from_3d_mouse.full_scale",
+             "must be > 0 (got " + num(d.mouseFullScale) + ")");
+    if (!(std::isfinite(d.mouseDeadZone) && d.mouseDeadZone >= 0 && d.mouseDeadZone < 1))
+        fail("devices.object_from_3d_mouse.dead_zone",
+             "must be in [0, 1) (got " + num(d.mouseDeadZone) + ")");
+    if (!(std::isfinite(d.objectTranslateMmPerS) && d.objectTranslateMmPerS >= 0))
+        fail("devices.object_from_3d_mouse.translate_mm_per_s", "must be >= 0");
+    if (!(std::isfinite(d.objectRotateDegPerS) && d.objectRotateDegPerS >= 0))
+        fail("devices.object_from_3d_mouse.rotate_deg_per_s", "must be >= 0");
     if (c.polygonizer.gridN < 16 || c.polygonizer.gridN > 1024 || c.polygonizer.gridN % 16 != 0)
         fail("polygonizer.grid_n", "must be a multiple of 16 between 16 and 1024 (got " +
                                        std::to_string(c.polygonizer.gridN) + ")");

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/devices/DeviceRule.h"
 
+#include <algorithm>
+
 namespace vsculpt::devices {
 
 namespace {
@@ -40,7 +42,9 @@ std::optional<DeviceAccess> parseDeviceAccess(std::string_view name) {
 const DeviceRule* findRule(const std::vector<DeviceRule>& rules, uint16_t vendor, uint16_t product,
                            DeviceAccess access) {
     for (const auto& r : rules)
-        if (r.vendor == vendor && r.product == product && r.access == access) return &r;
+        if (r.vendor == vendor && r.access == access &&
+            std::find(r.products.begin(), r.products.end(), product) != r.products.end())
+            return &r;
     return nullptr;
 }
 

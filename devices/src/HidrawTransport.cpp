@@ -42,6 +42,13 @@ std::string ueventValue(const std::string& text, const std::string& key) {
     return {};
 }
 
+fs::path hidDeviceDir(const fs::path& classEntry) {
+    std::error_code ec;
+    const fs::path real = fs::canonical(classEntry, ec);
+    if (ec) return {};
+    return real.parent_path().parent_path();
+}
+
 bool streams(DeviceDriver d) {
     return d == DeviceDriver::Polhemus || d == DeviceDriver::RiftImu;
 }
@@ -79,7 +86,11 @@ std::vector<HidrawNodeInfo> listHidrawNodes(const fs::path& sysClass, const fs::
     for (const auto& entry : fs::directory_iterator(sysClass, ec)) {
         HidrawNodeInfo info;
         info.node = entry.path().filename().string();
-        const std::string uevent = readSmallFile(entry.path() / "device" / "uevent");
+        // /sys/class/hidraw/hidrawN links to .../<hid device>/hidraw/hidrawN; the HID device
+        // (with HID_ID) is two levels up, its USB interface three.
+        const fs::path hidDevice = hidDeviceDir(entry.path());
+        if (hidDevice.empty()) continue;
+        const std::string uevent = readSmallFile(hidDevice / "uevent");
         if (!parseHidId(uevent, info.bus, info.vendor, info.product)) continue;
         info.name = ueventValue(uevent, "HID_NAME");
         info.readable = ::access((devDir / info.node).c_str(), R_OK) == 0;
@@ -93,6 +104,7 @@ struct HidrawTransport::Impl {
     struct OpenDevice {
         const DeviceRule* rule = nullptr;
         std::string node;
+        uint16_t vendor = 0, product = 0;
         Fd fd;
         std::thread reader;
         std::atomic<bool> gone{false};
@@ -194,9 +206,11 @@ struct HidrawTransport::Impl {
                     ruleBusy |= d->rule == rule;
                 if (ruleBusy) continue;
             }
-            const fs::path ifaceFile = sysClass / node.node / "device" / ".." / "bInterfaceNumber";
+            const fs::path ifaceFile =
+                hidDeviceDir(sysClass / node.node).parent_path() / "bInterfaceNumber";
             if (fs::exists(ifaceFile)) {
-                const int iface = std::atoi(readSmallFile(ifaceFile).c_str());
+                const int iface =
+                    static_cast<int>(std::strtol(readSmallFile(ifaceFile).c_str(), nullptr, 16));
                 if (iface != rule->interfaceNumber) continue;
             }
             const fs::path path = devDir / node.node;
@@ -216,6 +230,8 @@ struct HidrawTransport::Impl {
             auto d = std::make_unique<OpenDevice>();
             d->rule = rule;
             d->node = node.node;
+            d->vendor = node.vendor;
+            d->product = node.product;
             d->fd.fd = fd;
             d->lastReportNs = monotonicNowNs();
             d->counters.arrivals = 1;
@@ -317,8 +333,8 @@ std::vector<ConnectedDevice> HidrawTransport::connected() const {
     std::lock_guard lock(mImpl->mutex);
     std::vector<ConnectedDevice> out;
     for (const auto& d : mImpl->devices)
-        out.push_back({d->rule->name, d->rule->vendor, d->rule->product,
-                       (mImpl->devDir / d->node).string(), d->counters});
+        out.push_back({d->rule->name, d->vendor, d->product, (mImpl->devDir / d->node).string(),
+                       d->counters});
     return out;
 }
 

@@ -81,6 +81,7 @@ struct UsbTransport::Impl {
         int64_t lastReportNs = 0;
         TransportCounters counters;  // guarded by Impl::mutex
         std::string where;
+        uint16_t vendor = 0, product = 0;
     };
 
     TransportOptions options;
@@ -137,7 +138,7 @@ struct UsbTransport::Impl {
     }
 
     static int LIBUSB_CALL onHotplug(libusb_context*, libusb_device* dev,
-                                      libusb_hotplug_event event, void* user) {
+                                     libusb_hotplug_event event, void* user) {
         auto* self = static_cast<Impl*>(user);
         if (!self->ruleFor(dev)) return 0;
         // Minimal work here: remember the device; the loop opens or closes it.
@@ -224,6 +225,12 @@ struct UsbTransport::Impl {
         d->rule = rule;
         d->ref = std::make_unique<DeviceRef>(dev);
         d->where = whereOf(dev);
+        {
+            libusb_device_descriptor desc{};
+            libusb_get_device_descriptor(dev, &desc);
+            d->vendor = desc.idVendor;
+            d->product = desc.idProduct;
+        }
         const std::string label = "device '" + rule->name + "' (" + d->where + ")";
 
         int r = libusb_open(dev, &d->handle);
@@ -438,12 +445,13 @@ struct UsbTransport::Impl {
         if (feature) {
             // HID SET_REPORT(feature): class request to the interface (HID 1.11 §7.2.2).
             buffer = static_cast<unsigned char*>(malloc(LIBUSB_CONTROL_SETUP_SIZE + bytes.size()));
-            libusb_fill_control_setup(
-                buffer,
-                uint8_t{LIBUSB_REQUEST_TYPE_CLASS} | uint8_t{LIBUSB_RECIPIENT_INTERFACE} | uint8_t{LIBUSB_ENDPOINT_OUT}, 0x09,
-                static_cast<uint16_t>((3 << 8) | bytes[0]),
-                static_cast<uint16_t>(d->rule->interfaceNumber),
-                static_cast<uint16_t>(bytes.size()));
+            libusb_fill_control_setup(buffer,
+                                      uint8_t{LIBUSB_REQUEST_TYPE_CLASS} |
+                                          uint8_t{LIBUSB_RECIPIENT_INTERFACE} |
+                                          uint8_t{LIBUSB_ENDPOINT_OUT},
+                                      0x09, static_cast<uint16_t>((3 << 8) | bytes[0]),
+                                      static_cast<uint16_t>(d->rule->interfaceNumber),
+                                      static_cast<uint16_t>(bytes.size()));
             std::memcpy(buffer + LIBUSB_CONTROL_SETUP_SIZE, bytes.data(), bytes.size());
             libusb_fill_control_transfer(t, d->handle, buffer, &Impl::onOutTransfer, d, 1000);
         } else {
@@ -487,7 +495,7 @@ std::vector<ConnectedDevice> UsbTransport::connected() const {
     std::lock_guard lock(mImpl->mutex);
     std::vector<ConnectedDevice> out;
     for (const auto& d : mImpl->devices)
-        out.push_back({d->rule->name, d->rule->vendor, d->rule->product, d->where, d->counters});
+        out.push_back({d->rule->name, d->vendor, d->product, d->where, d->counters});
     return out;
 }
 

@@ -53,7 +53,7 @@ TransportOptions spaceMouseOptions() {
     DeviceRule r;
     r.name = "spacemouse";
     r.vendor = 0x046d;
-    r.product = 0xc626;
+    r.products = {0xc626};
     r.driver = DeviceDriver::SpaceMouse;
     r.access = DeviceAccess::Libusb;
     o.rules = {r};
@@ -147,7 +147,7 @@ TEST_F(UsbTransportTest, CommandsAndFeatureReportsReachTheDevice) {
     TransportOptions o = spaceMouseOptions();
     o.rules[0].name = "tracker";
     o.rules[0].vendor = 0x0f44;
-    o.rules[0].product = 0xff20;
+    o.rules[0].products = {0xff20};
     o.rules[0].driver = DeviceDriver::Polhemus;
     UsbTransport transport(o, q);
     EXPECT_EQ(transport.sendOutput("tracker", std::vector<uint8_t>{'P'}), SendStatus::NotConnected);

@@ -78,6 +78,42 @@ struct RenderConfig {
     double lensRedScale = 1, lensBlueScale = 1;  ///< chromatic aberration correction
 };
 
+/// One kind of USB device the device layer opens (configs/sculpt.json "devices.match";
+/// docs/devices.md). Driver and access names are those of vsculpt::devices.
+struct DeviceMatchConfig {
+    std::string name;    ///< unique; names the device in messages and recordings
+    std::string driver;  ///< spacemouse, polhemus, wacom, hid-digitizer or rift
+    std::string access;  ///< hidraw (kernel driver stays) or libusb (claims the interface)
+    int vendor = 0;
+    std::vector<int> products;
+    int interfaceNumber = 0;
+    int inEndpoint = 0, outEndpoint = 0;  ///< libusb only; 0 = the interface's first
+};
+
+/// Device layer: which devices, transport tuning, and how devices drive sculpting.
+struct DevicesConfig {
+    std::vector<DeviceMatchConfig> match;  ///< empty = the built-in table (knownDeviceMatches)
+    int transfersInFlight = 4;
+    double stallTimeoutS = 2.0;
+    double rescanIntervalS = 1.0;
+    // 3D mouse -> object pose (thesis: the 3D mouse turns and moves the sculpture)
+    double mouseFullScale = 350.0;         ///< raw count that means full deflection
+    double mouseDeadZone = 0.05;           ///< fraction of full deflection read as zero
+    double objectTranslateMmPerS = 150.0;  ///< at full deflection
+    double objectRotateDegPerS = 90.0;     ///< at full deflection
+    // tracker: stations and calibration (worldFromTracker, the pen tip in the pen sensor)
+    int penStation = 1, headStation = 2;
+    Vec3 worldFromTrackerTranslationMm{0.0};
+    Vec3 worldFromTrackerRotationDeg{0.0};  ///< applied as Rz * Ry * Rx
+    Vec3 penTipMm{0.0};                     ///< tip offset in the pen sensor's frame
+};
+
+/// The devices vsculpt knows out of the box (3Dconnexion mice, Polhemus trackers, Wacom
+/// tablets, Rift headsets), used when the config names none.
+const std::vector<DeviceMatchConfig>& knownDeviceMatches();
+/// Driver and access names the config accepts.
+const std::vector<std::string>& deviceDriverNames();
+
 struct SculptConfig {
     // tools
     double d4Mm = 10.0;                ///< diameter of the level-4 tool, mm
@@ -100,6 +136,7 @@ struct SculptConfig {
     PolygonizerConfig polygonizer;
     InteractionConfig interaction;
     RenderConfig render;
+    DevicesConfig devices;
 
     /// Where the values came from ("built-in defaults" or a file path), for messages.
     std::string source = "built-in defaults";

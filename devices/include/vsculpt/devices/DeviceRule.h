@@ -27,7 +27,7 @@ std::optional<DeviceAccess> parseDeviceAccess(std::string_view name);
 struct DeviceRule {
     std::string name;  ///< unique; names the device in events, recordings and messages
     uint16_t vendor = 0;
-    uint16_t product = 0;
+    std::vector<uint16_t> products;  ///< any of these
     DeviceDriver driver = DeviceDriver::SpaceMouse;
     DeviceAccess access = DeviceAccess::Hidraw;
     int interfaceNumber = 0;  ///< libusb: the interface to claim
@@ -35,7 +35,7 @@ struct DeviceRule {
     uint8_t outEndpoint = 0;  ///< libusb: OUT endpoint for commands; 0 = the first OUT, if any
 };
 
-/// The first rule matching vendor:product, or nullptr.
+/// The first rule with this access matching vendor:product, or nullptr.
 const DeviceRule* findRule(const std::vector<DeviceRule>& rules, uint16_t vendor, uint16_t product,
                            DeviceAccess access);
 

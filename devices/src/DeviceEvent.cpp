@@ -21,6 +21,18 @@ const char* toString(DeviceEventKind k) {
     return "?";
 }
 
+std::vector<uint8_t> arrivalBytes(uint16_t vendor, uint16_t product) {
+    return {uint8_t(vendor & 0xff), uint8_t(vendor >> 8), uint8_t(product & 0xff),
+            uint8_t(product >> 8)};
+}
+
+bool parseArrival(const DeviceEvent& e, uint16_t& vendor, uint16_t& product) {
+    if (e.kind != DeviceEventKind::Arrived || e.bytes.size() != 4) return false;
+    vendor = static_cast<uint16_t>(e.bytes[0] | (e.bytes[1] << 8));
+    product = static_cast<uint16_t>(e.bytes[2] | (e.bytes[3] << 8));
+    return true;
+}
+
 int64_t monotonicNowNs() {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(
                std::chrono::steady_clock::now().time_since_epoch())

@@ -236,7 +236,7 @@ struct HidrawTransport::Impl {
             d->lastReportNs = monotonicNowNs();
             d->counters.arrivals = 1;
             OpenDevice* raw = d.get();
-            push(DeviceEventKind::Arrived, rule->name);
+            push(DeviceEventKind::Arrived, rule->name, arrivalBytes(node.vendor, node.product));
             {
                 std::lock_guard lock(mutex);
                 devices.push_back(std::move(d));

@@ -314,13 +314,14 @@ struct UsbTransport::Impl {
             return;
         }
         d->lastReportNs = monotonicNowNs();
+        const uint16_t vendor = d->vendor, product = d->product;
         {
             std::lock_guard lock(mutex);
             ++d->counters.arrivals;
             devices.push_back(std::move(d));
         }
         warnedOpenFailures.erase({libusb_get_bus_number(dev), libusb_get_device_address(dev)});
-        push(DeviceEventKind::Arrived, rule->name);
+        push(DeviceEventKind::Arrived, rule->name, arrivalBytes(vendor, product));
     }
 
     // Cancels the IN transfers and waits (handling events: we are the event thread) until

@@ -30,8 +30,14 @@ struct DeviceEvent {
     DeviceEventKind kind = DeviceEventKind::Report;
     int64_t timeNs = 0;  ///< host steady clock, ns, when the transport received it
     std::string device;  ///< the config rule's name ("spacemouse", "tracker", ...)
+    /// Report: the report as read. Arrived: the device's USB vendor and product id, 2 bytes
+    /// each, little-endian (arrivalBytes). Otherwise empty.
     std::vector<uint8_t> bytes;
 };
+
+std::vector<uint8_t> arrivalBytes(uint16_t vendor, uint16_t product);
+/// Vendor and product from an Arrived event's bytes; false when they are not 4 bytes.
+bool parseArrival(const DeviceEvent& e, uint16_t& vendor, uint16_t& product);
 
 /// Host monotonic time in ns (std::chrono::steady_clock), the clock of DeviceEvent::timeNs.
 int64_t monotonicNowNs();

@@ -1,0 +1,106 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/devices/Recording.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <random>
+
+namespace vsculpt::devices {
+namespace {
+
+std::vector<DeviceRule> twoDevices() {
+    DeviceRule mouse;
+    mouse.name = "mouse";
+    mouse.vendor = 0x256f;
+    mouse.products = {0xc635, 0xc62e};
+    DeviceRule tracker;
+    tracker.name = "tracker";
+    tracker.driver = DeviceDriver::Polhemus;
+    tracker.access = DeviceAccess::Libusb;
+    tracker.vendor = 0x0f44;
+    tracker.products = {0xff20};
+    return {mouse, tracker};
+}
+
+TEST(Recording, RoundTripKeepsEveryEventByteExact) {
+    const auto path = std::filesystem::temp_directory_path() / "vsculpt-test-roundtrip.vsrec";
+    std::mt19937 rng(7);
+    std::vector<DeviceEvent> events;
+    events.push_back({DeviceEventKind::Arrived, 5, "mouse", arrivalBytes(0x256f, 0xc635)});
+    for (int i = 0; i < 500; ++i) {
+        DeviceEvent e{DeviceEventKind::Report,
+                      int64_t(1000 + i * 997 - (i % 3) * 5000),
+                      i % 2 ? "mouse" : "tracker",
+                      {}};
+        e.bytes.resize(1 + rng() % 64);
+        for (auto& b : e.bytes)
+            b = static_cast<uint8_t>(rng());
+        events.push_back(e);
+    }
+    events.push_back({DeviceEventKind::Stalled, 9'000'000, "tracker", {}});
+    events.push_back({DeviceEventKind::Left, 9'000'001, "mouse", {}});
+    {
+        RecordingWriter w(path, twoDevices(), {{"config", "{\"a\": 1}"}, {"vsculpt", "0.1.0"}});
+        for (const auto& e : events)
+            w.write(e);
+        w.flush();
+        EXPECT_EQ(w.eventsWritten(), events.size());
+    }
+    const Recording rec = readRecording(path);
+    EXPECT_EQ(rec.meta.at("config"), "{\"a\": 1}");
+    ASSERT_EQ(rec.devices.size(), 2u);
+    EXPECT_EQ(rec.devices[0].products, (std::vector<uint16_t>{0xc635, 0xc62e}));
+    EXPECT_EQ(rec.devices[1].driver, DeviceDriver::Polhemus);
+    EXPECT_EQ(rec.devices[1].access, DeviceAccess::Libusb);
+    ASSERT_EQ(rec.events.size(), events.size());
+    for (size_t i = 0; i < events.size(); ++i) {
+        EXPECT_EQ(rec.events[i].kind, events[i].kind) << i;
+        EXPECT_EQ(rec.events[i].timeNs, events[i].timeNs) << i;
+        EXPECT_EQ(rec.events[i].device, events[i].device) << i;
+        EXPECT_EQ(rec.events[i].bytes, events[i].bytes) << i;
+    }
+    std::filesystem::remove(path);
+}
+
+void expectError(const std::string& text, const std::string& fragment) {
+    try {
+        parseRecording(text, "r.vsrec");
+        ADD_FAILURE() << "accepted: " << text;
+    } catch (const RecordingError& e) {
+        EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+}
+
+TEST(Recording, BadFilesAreRefusedWithFileAndLine) {
+    const std::string head = "vsculpt-recording 1\ndevice m spacemouse hidraw 256f c635\n";
+    expectError("", "r.vsrec: empty file");
+    expectError("hello\n", "r.vsrec:1: not a vsculpt device recording");
+    expectError(head + "12 m report 0a0\n", "r.vsrec:3: odd number of hex digits");
+    expectError(head + "12 m report 0g\n", "r.vsrec:3: bad hex byte '0g'");
+    expectError(head + "12 x report 00\n", "r.vsrec:3: event for undeclared device 'x'");
+    expectError(head + "12 m wiggle 00\n", "r.vsrec:3: unknown event kind 'wiggle'");
+    expectError(head + "12 m report\n", "r.vsrec:3: a report without bytes");
+    expectError(head + "abc m report 00\n", "r.vsrec:3: expected 'meta', 'device' or an event");
+    expectError("vsculpt-recording 1\ndevice m joystick hidraw 1 2\n",
+                "r.vsrec:2: unknown driver 'joystick'");
+    expectError("vsculpt-recording 1\ndevice m spacemouse usb 1 2\n",
+                "r.vsrec:2: unknown access 'usb'");
+    expectError("vsculpt-recording 1\ndevice m spacemouse hidraw 1 2,zz\n",
+                "r.vsrec:2: bad product id 'zz'");
+    expectError(head + "12 m report 00\ndevice n spacemouse hidraw 1 2\n",
+                "r.vsrec:4: device after the first event");
+}
+
+TEST(Recording, ArrivalBytesCarryTheUsbIds) {
+    DeviceEvent e{DeviceEventKind::Arrived, 0, "m", arrivalBytes(0x0f44, 0xff20)};
+    uint16_t v = 0, p = 0;
+    ASSERT_TRUE(parseArrival(e, v, p));
+    EXPECT_EQ(v, 0x0f44);
+    EXPECT_EQ(p, 0xff20);
+    e.bytes.pop_back();
+    EXPECT_FALSE(parseArrival(e, v, p));
+}
+
+}  // namespace
+}  // namespace vsculpt::devices

@@ -53,6 +53,7 @@ class Session {
     void setZoom(int zoom, const core::Vec3& center);
     int zoom() const { return mZoom; }
     void setObjectPose(const core::RigidTransform& worldFromObject);
+    const core::RigidTransform& objectPose() const { return mWorldFromObject; }
 
     /// Runs one playback-script command. Returns true when it changed the sculpture (a
     /// stroke, or an undo/redo that had something to do). Errors as the methods below.

@@ -1,0 +1,86 @@
+// SPDX-License-Identifier: MIT
+/// @file DeviceInput.h
+/// @brief Device events -> sculpting: decodes each event with its device's driver and maps
+/// it the thesis's way (docs/devices.md):
+///   - tracker pen station -> the tool position (worldFromTracker * trackerFromPen * tip);
+///     the stylus switch, when the tracker reports one, engages the tool;
+///   - 3D mouse axes -> the object pose (rate control), right button -> cycle tool type,
+///     left button -> size step, or zoom step with the select tool;
+///   - headset IMU (fused) + tracker head station -> the head pose for the stereo eyes.
+/// Live runs and replays go through the same handle(), which depends only on the events
+/// (their order, bytes and timestamps), never on the wall clock: a recording replays to the
+/// same sculpture.
+///
+/// Faults never throw out of handle(): undecodable reports, samples the lattices cannot
+/// hold, out-of-order tracker or IMU data are counted and dropped. A device that leaves or
+/// stalls ends the stroke in progress (the session keeps everything before it) and stops
+/// object motion.
+#pragma once
+
+#include "vsculpt/app/Interaction.h"
+#include "vsculpt/app/Session.h"
+#include "vsculpt/core/Config.h"
+#include "vsculpt/devices/DeviceEvent.h"
+#include "vsculpt/devices/DeviceRule.h"
+
+#include <glm/mat4x4.hpp>
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace vsculpt::app {
+
+/// The device rules of a config: its "devices.match" list, or the built-in table.
+std::vector<devices::DeviceRule> deviceRules(const core::DevicesConfig& cfg);
+
+struct DeviceCounters {
+    uint64_t reports = 0;        ///< report events seen
+    uint64_t samples = 0;        ///< decoded samples used
+    uint64_t decodeErrors = 0;   ///< reports no decoder accepted
+    uint64_t droppedBytes = 0;   ///< stream bytes skipped while resynchronising (trackers)
+    uint64_t outOfOrder = 0;     ///< samples older than the previous one, dropped
+    uint64_t rejectedEdits = 0;  ///< tool samples the sculpture could not take
+    uint64_t arrivals = 0, departures = 0, stalls = 0;
+};
+
+/// Bytes a live run must send to a device (start-up commands, keep-alives).
+struct DeviceOutput {
+    std::string device;
+    std::vector<uint8_t> bytes;
+    bool feature = false;  ///< a HID feature report rather than OUT data
+};
+
+class DeviceInput {
+  public:
+    /// `interaction` and `session` must outlive this object.
+    DeviceInput(const core::DevicesConfig& cfg, std::vector<devices::DeviceRule> rules,
+                Interaction& interaction, Session& session);
+    ~DeviceInput();
+
+    void handle(const devices::DeviceEvent& event);
+
+    /// What to send now; empties the list. Replays ignore it.
+    std::vector<DeviceOutput> takeOutput();
+
+    /// The tool tip in world space, mm, as the pen last put it.
+    std::optional<core::Vec3> toolWorld() const;
+    /// worldFromHead (rigid, mm) at host time `timeNs`, when a headset and the head station
+    /// have both reported recently.
+    std::optional<glm::dmat4> worldFromHead(int64_t timeNs) const;
+
+    const std::map<std::string, DeviceCounters>& counters() const { return mCounters; }
+    /// One line per device: "name: N reports, M samples, ..." for logs and `play` output.
+    std::string summary() const;
+
+    struct State;
+
+  private:
+    std::unique_ptr<State> mState;
+    std::map<std::string, DeviceCounters> mCounters;
+};
+
+}  // namespace vsculpt::app

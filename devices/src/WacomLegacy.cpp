@@ -113,6 +113,9 @@ std::optional<WacomModel> findWacomModel(uint16_t vendor, uint16_t product) {
         {0x056a, 0x0012, "Graphire2 5x7", P::Graphire, 13918, 10206, 80, 511},
         {0x056a, 0x0013, "Graphire3", P::Graphire, 10208, 7424, 80, 511},
         {0x056a, 0x0014, "Graphire3 6x8", P::Graphire, 16704, 12064, 80, 511},
+        // Graphire4 differs from Graphire only in the mouse wheel and pad, not the pen.
+        {0x056a, 0x0015, "Graphire4 4x5", P::Graphire, 10208, 7424, 80, 511},
+        {0x056a, 0x0016, "Graphire4 6x8", P::Graphire, 16704, 12064, 80, 511},
         {0x056a, 0x0020, "Intuos 4x5", P::Intuos, 12700, 10600, 100, 1023},
         {0x056a, 0x0021, "Intuos 6x8", P::Intuos, 20320, 16240, 100, 1023},
         {0x056a, 0x0022, "Intuos 9x12", P::Intuos, 30480, 24060, 100, 1023},
@@ -123,9 +126,14 @@ std::optional<WacomModel> findWacomModel(uint16_t vendor, uint16_t product) {
         {0x056a, 0x0043, "Intuos2 9x12", P::Intuos, 30480, 24060, 100, 1023},
         {0x056a, 0x0044, "Intuos2 12x12", P::Intuos, 30480, 31680, 100, 1023},
         {0x056a, 0x0045, "Intuos2 12x18", P::Intuos, 45720, 31680, 100, 1023},
+        {0x056a, 0x0047, "Intuos2 6x8", P::Intuos, 20320, 16240, 100, 1023},
         {0x056a, 0x00B0, "Intuos3 4x5", P::Intuos3, 25400, 20320, 200, 1023},
         {0x056a, 0x00B1, "Intuos3 6x8", P::Intuos3, 40640, 30480, 200, 1023},
         {0x056a, 0x00B2, "Intuos3 9x12", P::Intuos3, 60960, 45720, 200, 1023},
+        {0x056a, 0x00B3, "Intuos3 12x12", P::Intuos3, 60960, 60960, 200, 1023},
+        {0x056a, 0x00B4, "Intuos3 12x19", P::Intuos3, 97536, 60960, 200, 1023},
+        {0x056a, 0x00B5, "Intuos3 6x11", P::Intuos3, 54204, 31750, 200, 1023},
+        {0x056a, 0x00B7, "Intuos3 4x6", P::Intuos3, 31496, 19685, 200, 1023},
     };
     for (const WacomModel& m : kModels)
         if (m.vendor == vendor && m.product == product) return m;

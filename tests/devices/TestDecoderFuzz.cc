@@ -155,6 +155,7 @@ TEST(DecoderFuzz, PolhemusRecordsAndStream) {
 TEST(DecoderFuzz, HidParserOnRandomAndMutatedDescriptors) {
     Gen g(3);
     const Bytes real[] = {loadHex("spacenavigator.rdesc.hex"),
+                          loadHex("spacemouse-wireless.rdesc.hex"),
                           loadHex("xppen-deco01v3-pen.rdesc.hex")};
     int parsed = 0;
     for (int i = 0; i < 30000; ++i) {
@@ -162,7 +163,7 @@ TEST(DecoderFuzz, HidParserOnRandomAndMutatedDescriptors) {
         if (i % 3 == 0) {
             d = g.bytes(64);
         } else {
-            d = real[i % 2];
+            d = real[g.uniform(0, 2)];
             g.mutate(d, g.uniform(1, 6));
             if (g.uniform(0, 4) == 0) d.resize(size_t(g.uniform(0, int(d.size()))));
         }

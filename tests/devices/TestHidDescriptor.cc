@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The HID report-descriptor parser, the field extractor and the two decoders built on them:
-// on real descriptors (SpaceNavigator, XP-Pen Deco 01 V3; see tests/data/devices/*.hex for
-// their sources) and on small synthetic ones for each parser rule.
+// on real descriptors (SpaceNavigator, SpaceMouse Wireless, XP-Pen Deco 01 V3; see
+// tests/data/devices/*.hex for their sources) and on small synthetic ones for each parser rule.
 #include "vsculpt/devices/HidDescriptor.h"
 #include "vsculpt/devices/HidDigitizer.h"
 #include "vsculpt/devices/HidMultiAxis.h"
@@ -147,6 +147,47 @@ TEST(HidMultiAxis, SpaceNavigatorMatchesTheHandWrittenDecoder) {
     EXPECT_EQ(st, DecodeStatus::Truncated);
     EXPECT_FALSE(dec->decode(Bytes{4, 1}, 0, &st));  // an output report id, not an input
     EXPECT_EQ(st, DecodeStatus::UnknownReport);
+}
+
+TEST(HidMultiAxis, SpaceMouseWirelessSixAxesAndBattery) {
+    const Bytes raw = loadHex("spacemouse-wireless.rdesc.hex");
+    ASSERT_EQ(raw.size(), 270u);
+    const HidDescriptor d = parseOrFail(raw);
+    const HidReport* six = d.find(HidReportKind::Input, 1);
+    ASSERT_TRUE(six);
+    EXPECT_EQ(six->byteLength(), 13u);
+    EXPECT_EQ(six->fields[0].flags, uint32_t(HidVariable));  // Abs on this model
+    const HidReport* battery = d.find(HidReportKind::Input, 0x17);
+    ASSERT_TRUE(battery);
+    EXPECT_EQ(battery->byteLength(), 3u);
+    EXPECT_EQ(battery->fields[0].usages, (std::vector<uint32_t>{hidUsage(0x06, 0x20)}));
+    ASSERT_TRUE(d.find(HidReportKind::Feature, 0x1A));
+
+    const auto dec = HidMultiAxisDecoder::fromDescriptor(d);
+    ASSERT_TRUE(dec);
+    std::mt19937 rng(8);
+    std::uniform_int_distribution<int> axis(-350, 350);
+    for (int i = 0; i < 500; ++i) {
+        Bytes rep{1};
+        for (int a = 0; a < 6; ++a) {
+            const int v = axis(rng);
+            rep.push_back(uint8_t(v & 0xFF));
+            rep.push_back(uint8_t((v >> 8) & 0xFF));
+        }
+        const auto generic = dec->decode(rep, 0);
+        const auto manual = decodeSpaceMouseReport(rep, 0);
+        ASSERT_TRUE(generic && manual);
+        EXPECT_TRUE(generic->hasTranslation && generic->hasRotation);
+        EXPECT_EQ(generic->translation, manual->translation);
+        EXPECT_EQ(generic->rotation, manual->rotation);
+    }
+    const Bytes level{0x17, 87, 0x01};  // 87 %, vendor bit set
+    const auto g = dec->decode(level, 0);
+    const auto m = decodeSpaceMouseReport(level, 0);
+    ASSERT_TRUE(g && m);
+    EXPECT_TRUE(g->hasBattery);
+    EXPECT_EQ(g->battery, 87);
+    EXPECT_EQ(g->battery, m->battery);
 }
 
 // ---- XP-Pen Deco 01 V3 (pen tablet) --------------------------------------------------------

@@ -200,13 +200,25 @@ SplineBasis basisAt(double u, int n) {
 struct Tangent {
     double s;
     bool inflection;
+    // 0: x extremum (tangent exactly vertical), 1: y extremum (exactly horizontal), −1: neither.
+    int axis = -1;
 };
+
+// The tangent direction: exact for axis extrema, so sections whose extents agree give
+// polygons whose extents agree too.
+glm::dvec2 directionOf(const ClosedCurve& curve, const Tangent& t) {
+    const glm::dvec2 d = curve.tangent(t.s);
+    if (t.axis == 0) return {0.0, d.y > 0 ? 1.0 : -1.0};
+    if (t.axis == 1) return {d.x > 0 ? 1.0 : -1.0, 0.0};
+    return d;
+}
 
 // Tangent point between parameters a < b (b may exceed n) whose point is the midpoint of the
 // edge cut from the corner of tangents a and b.
-double midEdgeTangent(const ClosedCurve& curve, double a, double b) {
-    const glm::dvec2 pa = curve.point(a), ta = curve.tangent(a);
-    const glm::dvec2 pb = curve.point(b), tb = curve.tangent(b);
+double midEdgeTangent(const ClosedCurve& curve, double a, double b, const glm::dvec2& ta,
+                      const glm::dvec2& tb) {
+    const glm::dvec2 pa = curve.point(a);
+    const glm::dvec2 pb = curve.point(b);
     auto offset = [&](double s, bool& ok) {
         const glm::dvec2 p = curve.point(s), t = curve.tangent(s);
         glm::dvec2 c1, c2;
@@ -239,7 +251,7 @@ double midEdgeTangent(const ClosedCurve& curve, double a, double b) {
 Polyline2 polygonOf(const ClosedCurve& curve, const std::vector<Tangent>& tangents) {
     std::vector<TangentLine> lines;
     for (const auto& t : tangents)
-        lines.push_back({curve.point(t.s), curve.tangent(t.s)});
+        lines.push_back({curve.point(t.s), directionOf(curve, t)});
     return polygonFromTangentLines(lines);
 }
 
@@ -277,7 +289,7 @@ InverseChaikinResult inverseChaikin(const Polyline2& input, const InverseChaikin
         for (int i = 0; i < n; ++i) {
             const double a = curve.tangent(i)[axis], b = curve.tangent(i + 1)[axis];
             if ((a > 0) != (b > 0) && a != b)
-                candidates.push_back({curve.wrap(i + a / (a - b)), false});
+                candidates.push_back({curve.wrap(i + a / (a - b)), false, axis});
         }
     const std::vector<double> inflections = inflectionParameters(curve);
     for (double s : inflections)
@@ -309,7 +321,9 @@ InverseChaikinResult inverseChaikin(const Polyline2& input, const InverseChaikin
         return k + 1 == tangents.size() ? s + n : s;
     };
     auto insertBetween = [&](std::vector<Tangent>& out, std::size_t k) {
-        double s = midEdgeTangent(curve, tangents[k].s, next(k));
+        const Tangent& b = tangents[(k + 1) % tangents.size()];
+        double s = midEdgeTangent(curve, tangents[k].s, next(k), directionOf(curve, tangents[k]),
+                                  directionOf(curve, b));
         out.push_back({curve.wrap(s), false});
     };
 
@@ -319,7 +333,8 @@ InverseChaikinResult inverseChaikin(const Polyline2& input, const InverseChaikin
         std::vector<Tangent> split;
         for (std::size_t k = 0; k < tangents.size(); ++k) {
             split.push_back(tangents[k]);
-            if (angleBetween(curve.tangent(tangents[k].s), curve.tangent(next(k))) >
+            if (angleBetween(directionOf(curve, tangents[k]),
+                             directionOf(curve, tangents[(k + 1) % tangents.size()])) >
                 options.splitTurn)
                 insertBetween(split, k);
         }
@@ -363,14 +378,29 @@ InverseChaikinResult inverseChaikin(const Polyline2& input, const InverseChaikin
             const bool kBack = imbalance[k] >= options.imbalanceThreshold && !farAhead[k];
             const std::size_t prev = (k + m - 1) % m;
             const bool prevLong = imbalance[prev] >= options.imbalanceThreshold && farAhead[prev];
-            if (!t.inflection && ((kLong && !jLong) || (kBack && !prevLong))) {
-                const glm::dvec2 p = curve.point(t.s);
-                const double l1 = glm::length(p - result.polygon[prev]);
-                const double l2 = glm::length(p - result.polygon[k]);
-                const double shift = 0.5 * std::abs(l2 - l1) / curve.step();
+            // Extremum and inflection points stay put (they define the section's extents and
+            // shape); their neighbours and cut corners do the balancing.
+            const bool fixed = t.inflection || t.axis >= 0;
+            // Signed slide in arc length: toward the far vertex by d/2 when alone on the long
+            // side; toward a fixed extremum neighbour whose long side is alone at the shared
+            // corner, which pulls that corner toward it.
+            auto halfDifference = [&](std::size_t i) {
+                const glm::dvec2 p = curve.point(tangents[i].s);
+                const double l1 = glm::length(p - result.polygon[(i + m - 1) % m]);
+                const double l2 = glm::length(p - result.polygon[i]);
+                return 0.5 * std::abs(l2 - l1);
+            };
+            double slide = 0;
+            if (!fixed && ((kLong && !jLong) || (kBack && !prevLong)))
+                slide = farAhead[k] ? halfDifference(k) : -halfDifference(k);
+            else if (!fixed && prevLong && !kBack && tangents[prev].axis >= 0)
+                slide = -halfDifference(prev);
+            else if (!fixed && jLong && !kLong && tangents[j].axis >= 0)
+                slide = halfDifference(j);
+            if (slide != 0) {
                 const double lo = (k == 0 ? tangents[m - 1].s - n : tangents[prev].s) + minGap;
                 const double hi = next(k) - minGap;
-                const double s = std::clamp(t.s + (farAhead[k] ? shift : -shift), lo, hi);
+                const double s = std::clamp(t.s + slide / curve.step(), lo, hi);
                 if (lo < hi && s != t.s) {
                     t.s = curve.wrap(s);
                     changed = true;

@@ -27,8 +27,21 @@ uint32_t hidEquivalentPenUsage(uint32_t usage) {
 
 std::optional<HidDigitizerDecoder> HidDigitizerDecoder::fromDescriptor(const HidDescriptor& d,
                                                                        std::string* error) {
+    // Touch screens with a pen describe fingers with the same Tip Switch and X/Y usages, often
+    // in an earlier report: prefer a report in a Pen application, then a generic Digitizer
+    // one, and take a Touch Screen / Touch Pad report only when there is nothing else.
+    auto rank = [](const HidReport& r) {
+        const uint32_t app =
+            r.fields.empty() ? 0 : hidEquivalentPenUsage(r.fields[0].applicationUsage);
+        if (app == hidUsage(kDigitizer, 0x02)) return 0;
+        if (app == hidUsage(kDigitizer, 0x01)) return 1;
+        if (app == hidUsage(kDigitizer, 0x04) || app == hidUsage(kDigitizer, 0x05)) return 3;
+        return 2;
+    };
+    std::optional<HidDigitizerDecoder> best;
+    int bestRank = 4;
     for (const HidReport& r : d.reports) {
-        if (r.kind != HidReportKind::Input) continue;
+        if (r.kind != HidReportKind::Input || rank(r) >= bestRank) continue;
         HidDigitizerDecoder dec;
         auto bind = [](Slot& s, const HidField& f, uint32_t i) {
             if (s.field) return;  // first occurrence wins (multi-touch repeats usages)
@@ -94,10 +107,11 @@ std::optional<HidDigitizerDecoder> HidDigitizerDecoder::fromDescriptor(const Hid
         };
         size(*dec.mX.field, dec.mXmm, dec.mWidthMm);
         size(*dec.mY.field, dec.mYmm, dec.mHeightMm);
-        return dec;
+        best = dec;
+        bestRank = rank(r);
     }
-    if (error) *error = "no input report with X, Y and Tip Switch or In Range";
-    return std::nullopt;
+    if (!best && error) *error = "no input report with X, Y and Tip Switch or In Range";
+    return best;
 }
 
 std::optional<PenSample> HidDigitizerDecoder::decode(std::span<const uint8_t> r, int64_t timeNs,

@@ -154,16 +154,16 @@ TEST(DecoderFuzz, PolhemusRecordsAndStream) {
 
 TEST(DecoderFuzz, HidParserOnRandomAndMutatedDescriptors) {
     Gen g(3);
-    const Bytes real[] = {loadHex("spacenavigator.rdesc.hex"),
-                          loadHex("spacemouse-wireless.rdesc.hex"),
-                          loadHex("xppen-deco01v3-pen.rdesc.hex")};
+    const Bytes real[] = {
+        loadHex("spacenavigator.rdesc.hex"), loadHex("spacemouse-wireless.rdesc.hex"),
+        loadHex("xppen-deco01v3-pen.rdesc.hex"), loadHex("goodix-gxtp-27c6-0113.rdesc.hex")};
     int parsed = 0;
     for (int i = 0; i < 30000; ++i) {
         Bytes d;
         if (i % 3 == 0) {
             d = g.bytes(64);
         } else {
-            d = real[g.uniform(0, 2)];
+            d = real[g.uniform(0, 3)];
             g.mutate(d, g.uniform(1, 6));
             if (g.uniform(0, 4) == 0) d.resize(size_t(g.uniform(0, int(d.size()))));
         }

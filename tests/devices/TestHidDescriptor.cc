@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The HID report-descriptor parser, the field extractor and the two decoders built on them:
-// on real descriptors (SpaceNavigator, SpaceMouse Wireless, XP-Pen Deco 01 V3; see
+// on real descriptors (SpaceNavigator, SpaceMouse Wireless, XP-Pen Deco 01 V3, Goodix GXTP; see
 // tests/data/devices/*.hex for their sources) and on small synthetic ones for each parser rule.
 #include "vsculpt/devices/HidDescriptor.h"
 #include "vsculpt/devices/HidDigitizer.h"
@@ -291,6 +291,41 @@ TEST(HidDigitizer, XpPenReportsDecodeToMillimetres) {
     EXPECT_EQ(st, DecodeStatus::UnknownReport);
     EXPECT_FALSE(dec->decode({}, 0, &st));
     EXPECT_EQ(st, DecodeStatus::Empty);
+}
+
+TEST(HidDigitizer, TouchScreenWithPenPicksThePenReport) {
+    const Bytes raw = loadHex("goodix-gxtp-27c6-0113.rdesc.hex");
+    ASSERT_EQ(raw.size(), 519u);
+    const HidDescriptor d = parseOrFail(raw);
+    // Finger report 1 (five contacts) also has Tip Switch and X/Y, and comes first.
+    const HidReport* fingers = d.find(HidReportKind::Input, 1);
+    ASSERT_TRUE(fingers);
+    EXPECT_EQ(fingers->fields.front().applicationUsage, hidUsage(0x0D, 0x04));
+    const auto dec = HidDigitizerDecoder::fromDescriptor(d);
+    ASSERT_TRUE(dec);
+    EXPECT_EQ(dec->reportId(), 8);
+    EXPECT_EQ(dec->reportBytes(), 13u);
+    EXPECT_NEAR(dec->widthMm(), 182.3, 1e-9);   // 1823e-2 cm
+    EXPECT_NEAR(dec->heightMm(), 114.3, 1e-9);  // 1143e-2 cm
+
+    // Tip + in range; x = 2560 of 5120, y = 3200 of 3200, pressure 2048 of 4095,
+    // tilt (+4500, -1500) hundredths of a degree.
+    const Bytes pen{8, 0x21, 0, 0x00, 0x0A, 0x80, 0x0C, 0x00, 0x08, 0x94, 0x11, 0x24, 0xFA};
+    const auto s = dec->decode(pen, 0);
+    ASSERT_TRUE(s);
+    EXPECT_TRUE(s->touching && s->inProximity);
+    EXPECT_EQ(s->tool, PenTool::Pen);
+    EXPECT_NEAR(s->positionMm.x, 91.15, 1e-9);
+    EXPECT_NEAR(s->positionMm.y, 114.3, 1e-9);
+    EXPECT_NEAR(s->pressure, 2048.0 / 4095.0, 1e-12);
+    EXPECT_NEAR(s->tiltRad.x, 45 * kDeg, 1e-12);
+    EXPECT_NEAR(s->tiltRad.y, -15 * kDeg, 1e-12);
+    // The controller drops In Range while the tip touches and moves: still in proximity.
+    const Bytes touchNoRange{8, 0x01, 0, 0x00, 0x0A, 0x80, 0x0C, 0x00, 0x08, 0, 0, 0, 0};
+    EXPECT_TRUE(dec->decode(touchNoRange, 0)->inProximity);
+    DecodeStatus st;
+    EXPECT_FALSE(dec->decode(Bytes{1, 1, 0, 0, 0, 0, 0}, 0, &st));  // a finger report
+    EXPECT_EQ(st, DecodeStatus::UnknownReport);
 }
 
 TEST(HidDigitizer, RefusesADescriptorWithoutAPen) {

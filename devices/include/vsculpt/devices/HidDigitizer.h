@@ -23,8 +23,9 @@ namespace vsculpt::devices {
 
 class HidDigitizerDecoder {
   public:
-    /// Picks the first input report that carries X, Y and a Tip Switch or In Range. nullopt
-    /// (and `error` says why) when the descriptor has no such report.
+    /// Picks an input report that carries X, Y and a Tip Switch or In Range, preferring one in
+    /// a Pen application collection over a generic Digitizer one over a Touch Screen / Touch
+    /// Pad one (first of equals). nullopt (and `error` says why) when there is none.
     static std::optional<HidDigitizerDecoder> fromDescriptor(const HidDescriptor& descriptor,
                                                              std::string* error = nullptr);
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/app/Cli.h"
 
+#include "vsculpt/app/DeviceCommands.h"
 #include "vsculpt/app/Play.h"
 #include "vsculpt/app/RenderStill.h"
 #include "vsculpt/app/Summary.h"
@@ -22,8 +23,10 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         "Without a subcommand it opens the sculpting window (docs/window.md: mouse and keys\n"
         "stand in for the pen and the 3D mouse); without a display it says so and prints the\n"
         "summary of `vsculpt info`. `vsculpt play` runs a playback script headless\n"
-        "(docs/playback.md), `vsculpt render` ray-traces a still. Device input (trackers, 3D\n"
-        "mice, tablets) is not built yet: see README.md."};
+        "(docs/playback.md), `vsculpt render` ray-traces a still. `vsculpt devices` lists the\n"
+        "trackers, 3D mice, tablets and headsets vsculpt can use, `vsculpt record` sculpts with\n"
+        "them while recording every report; `vsculpt play` replays such a recording\n"
+        "(docs/devices.md)."};
     cli.set_version_flag("--version", "vsculpt 0.1.0");
     std::string configPath = core::defaultConfigPath().string();
     cli.add_option("--config", configPath, "Config file (JSON with comments; docs/config.md)")
@@ -46,7 +49,9 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     PlayOptions play;
     CLI::App* playCmd = cli.add_subcommand(
         "play", "Run a playback script headless: sculpt, export, report (docs/playback.md)");
-    playCmd->add_option("SCRIPT", play.script, "Playback script")->required();
+    playCmd
+        ->add_option("SCRIPT", play.script, "Playback script (.vsc) or device recording (.vsrec)")
+        ->required();
     playCmd->add_option("--out", play.outputs,
                         "Export the final sculpture; repeatable; format from the extension: "
                         ".obj .stl .ply .glb .dxf .vdb");
@@ -72,6 +77,23 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         ->capture_default_str();
     playCmd->add_option("--shot-size", play.shotSize, "Size of --shot, WIDTHxHEIGHT")
         ->capture_default_str();
+
+    CLI::App* devicesCmd = cli.add_subcommand(
+        "devices",
+        "List connected trackers, 3D mice, tablets and headsets and whether vsculpt can use them");
+    RecordOptions record;
+    CLI::App* recordCmd = cli.add_subcommand("record",
+                                             "Sculpt headless with the connected devices and "
+                                             "record every raw report (replay: vsculpt play FILE)");
+    recordCmd->add_option("--out", record.outPath, "Recording to write (.vsrec)")->required();
+    recordCmd
+        ->add_option("--seconds", record.seconds, "Stop after this many seconds (default: Ctrl-C)")
+        ->check(CLI::NonNegativeNumber);
+    recordCmd->add_flag("--until-unplugged", record.untilUnplugged,
+                        "Stop once every device that connected has been unplugged again");
+    recordCmd->add_flag(
+        "!--engage-with-button", record.alwaysEngaged,
+        "The stylus switch engages the tool (default: always engaged, as in the thesis)");
 
     RenderOptions still;
     CLI::App* renderCmd = cli.add_subcommand(
@@ -100,6 +122,11 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     }
 
     if (*playCmd) return runPlay(play, out, err);
+    if (*devicesCmd) return runDevices(configPath, out, err);
+    if (*recordCmd) {
+        record.configPath = configPath;
+        return runRecord(record, out, err);
+    }
     if (*renderCmd) return runRenderStill(still, out, err);
     if (!*infoCmd) {
         window.configPath = configPath == core::defaultConfigPath().string() ? "" : configPath;

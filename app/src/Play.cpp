@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/app/Play.h"
 
+#include "vsculpt/app/DeviceInput.h"
+#include "vsculpt/app/Interaction.h"
 #include "vsculpt/app/Session.h"
 #include "vsculpt/core/ExportMesh.h"
+#include "vsculpt/devices/Recording.h"
 #include "vsculpt/render/Shot.h"
 
 #include <tbb/global_control.h>
@@ -15,6 +18,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <ostream>
 
 namespace vsculpt::app {
@@ -22,6 +26,13 @@ namespace vsculpt::app {
 using namespace vsculpt::core;
 
 namespace {
+
+bool isDeviceRecording(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::string first;
+    std::getline(in, first);
+    return first.rfind("vsculpt-recording", 0) == 0;
+}
 
 std::string hex(uint64_t v) {
     char b[17];
@@ -116,11 +127,24 @@ nlohmann::json statsJson(const Session& s, const Mesh& mesh, const PlayOptions& 
 int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
     // Bad input first, before any work: script, config, output formats.
     Script script;
+    std::optional<devices::Recording> recording;
     SculptConfig cfg;
     try {
-        script = loadScript(o.script);
-        cfg = loadConfig(o.configPath.empty() ? defaultConfigPath()
-                                              : std::filesystem::path(o.configPath));
+        if (isDeviceRecording(o.script)) {
+            recording = devices::readRecording(o.script);
+            // A recording replays with the config it was recorded with (calibration, mapping,
+            // tools), unless the user names another.
+            const auto stored = recording->meta.find("config");
+            if (o.configPath.empty() && stored != recording->meta.end())
+                cfg = parseConfig(stored->second, o.script + " (recorded config)");
+            else
+                cfg = loadConfig(o.configPath.empty() ? defaultConfigPath()
+                                                      : std::filesystem::path(o.configPath));
+        } else {
+            script = loadScript(o.script);
+            cfg = loadConfig(o.configPath.empty() ? defaultConfigPath()
+                                                  : std::filesystem::path(o.configPath));
+        }
     } catch (const std::exception& e) {
         err << "vsculpt play: error: " << e.what() << "\n";
         return 2;
@@ -178,7 +202,35 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
         err << "vsculpt play: recovered " << session->recoveredEdits()
             << " edit(s) from the project journal\n";
 
-    {
+    std::string deviceSummary;
+    if (recording) {
+        // Device replay: the same decoders and mapping as a live run, event by event.
+        Interaction interaction(*session, recording->meta.count("always_engaged") &&
+                                              recording->meta.at("always_engaged") == "1");
+        std::vector<devices::DeviceRule> rules = recording->devices;
+        const core::DevicesConfig& dc = cfg.devices;
+        DeviceInput input(dc, rules, interaction, *session);
+        Progress progress(err, o.progress && ::isatty(2), recording->events.size());
+        size_t done = 0;
+        for (const devices::DeviceEvent& e : recording->events) {
+            const bool wasInStroke = session->inStroke();
+            input.handle(e);
+            if (o.check && wasInStroke && !session->inStroke()) {
+                const std::string diff = session->verifyMesh();
+                if (!diff.empty()) {
+                    err << "\nvsculpt play: " << o.script << ": event " << done + 1
+                        << ": --check failed: " << diff << "\n";
+                    return 1;
+                }
+            }
+            ++done;
+            progress.update(done, static_cast<int>(done));
+        }
+        session->endStroke();
+        input.takeOutput();
+        deviceSummary = input.summary();
+    }
+    if (!recording) {
         Progress progress(err, o.progress && ::isatty(2), script.commands.size());
         size_t done = 0;
         for (const ScriptCommand& c : script.commands) {
@@ -233,7 +285,10 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
             f << stats.dump(2) << "\n";
             if (!f) throw std::runtime_error(o.statsPath + ": cannot write statistics");
         }
-        out << "vsculpt play: " << script.commands.size() << " command(s), "
+        if (recording) out << deviceSummary;
+        out << "vsculpt play: "
+            << (recording ? std::to_string(recording->events.size()) + " device event(s), "
+                          : std::to_string(script.commands.size()) + " command(s), ")
             << stats["skeletons"].get<size_t>() << " skeletons, " << mesh.triangleCount()
             << " triangles, " << (stats["watertight"].get<bool>() ? "watertight" : "open")
             << ", mesh hash " << stats["mesh_hash"].get<std::string>() << "\n";

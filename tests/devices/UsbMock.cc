@@ -153,6 +153,11 @@ void UsbMock::queueIn(std::vector<uint8_t> report) {
     mIn.push_back(std::move(report));
 }
 
+bool UsbMock::drained() {
+    std::lock_guard lock(mMutex);
+    return mIn.empty() && mReapable.empty();
+}
+
 std::vector<std::vector<uint8_t>> UsbMock::sent() {
     std::lock_guard lock(mMutex);
     return mSent;

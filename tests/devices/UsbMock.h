@@ -31,6 +31,8 @@ class UsbMock {
     void queueIn(std::vector<uint8_t> report);
     /// Bytes the host sent to OUT endpoints / control SET_REPORTs (setup + data), in order.
     std::vector<std::vector<uint8_t>> sent();
+    /// True when every queued IN report has been handed to the host.
+    bool drained();
     /// Whether the testbed is usable (umockdev-wrapper preloaded).
     static bool available();
 

@@ -1,0 +1,216 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/app/DeviceCommands.h"
+
+#include "vsculpt/app/DeviceInput.h"
+#include "vsculpt/app/Interaction.h"
+#include "vsculpt/app/LiveDevices.h"
+#include "vsculpt/app/Session.h"
+#include "vsculpt/core/Config.h"
+#include "vsculpt/core/Mesh.h"
+#include "vsculpt/devices/HidrawTransport.h"
+#include "vsculpt/devices/Recording.h"
+#include "vsculpt/devices/UsbTransport.h"
+
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <ostream>
+#include <set>
+#include <thread>
+
+namespace vsculpt::app {
+
+namespace {
+
+std::string usbId(uint16_t vendor, uint16_t product) {
+    char b[16];
+    std::snprintf(b, sizeof b, "%04x:%04x", vendor, product);
+    return b;
+}
+
+const devices::DeviceRule* match(const std::vector<devices::DeviceRule>& rules, uint16_t vendor,
+                                 uint16_t product, devices::DeviceAccess access) {
+    return devices::findRule(rules, vendor, product, access);
+}
+
+std::atomic<bool> gStop{false};
+extern "C" void onSignal(int) {
+    gStop = true;
+}
+
+}  // namespace
+
+int runDevices(const std::string& configPath, std::ostream& out, std::ostream& err) {
+    core::SculptConfig cfg;
+    try {
+        cfg = core::loadConfig(configPath.empty() ? core::defaultConfigPath()
+                                                  : std::filesystem::path(configPath));
+    } catch (const core::ConfigError& e) {
+        err << "vsculpt devices: error: " << e.what() << "\n";
+        return 2;
+    }
+    const auto rules = deviceRules(cfg.devices);
+    int usable = 0, found = 0;
+
+    std::vector<devices::UsbDeviceInfo> usb;
+    try {
+        usb = devices::listUsbDevices(true);
+    } catch (const devices::TransportError& e) {
+        out << "USB: not available (" << e.what() << ")\n";
+    }
+    const auto hidraw = devices::listHidrawNodes();
+
+    out << "Devices vsculpt can use (rules: "
+        << (cfg.devices.match.empty() ? "built-in table" : "devices.match") << "):\n";
+    for (const auto& d : usb) {
+        const auto* viaUsb = match(rules, d.vendor, d.product, devices::DeviceAccess::Libusb);
+        const auto* viaHid = match(rules, d.vendor, d.product, devices::DeviceAccess::Hidraw);
+        if (!viaUsb && !viaHid) continue;
+        ++found;
+        const auto* rule = viaUsb ? viaUsb : viaHid;
+        out << "  " << rule->name << "  " << usbId(d.vendor, d.product) << "  usb " << d.bus << ":"
+            << d.address;
+        if (!d.productName.empty()) out << "  \"" << d.productName << "\"";
+        out << "  " << devices::toString(rule->driver) << " via " << devices::toString(rule->access)
+            << "  ";
+        if (viaUsb) {
+            if (d.openable) {
+                out << "ready\n";
+                ++usable;
+            } else {
+                out << "cannot open (" << d.openError
+                    << "): install configs/70-vsculpt.rules, see docs/devices.md\n";
+            }
+        } else {
+            bool readable = false, present = false;
+            for (const auto& h : hidraw)
+                if (h.vendor == d.vendor && h.product == d.product) {
+                    present = true;
+                    readable |= h.readable;
+                }
+            if (readable) {
+                out << "ready\n";
+                ++usable;
+            } else if (present) {
+                out << "no permission on its hidraw node: install configs/70-vsculpt.rules, see "
+                       "docs/devices.md\n";
+            } else {
+                out << "no hidraw node (is the kernel's hid driver loaded?)\n";
+            }
+        }
+    }
+    // Bluetooth HID devices have hidraw nodes but no USB entry.
+    for (const auto& h : hidraw) {
+        bool listed = false;
+        for (const auto& d : usb)
+            listed |= d.vendor == h.vendor && d.product == h.product;
+        const auto* rule = match(rules, h.vendor, h.product, devices::DeviceAccess::Hidraw);
+        if (listed || !rule) continue;
+        ++found;
+        out << "  " << rule->name << "  " << usbId(h.vendor, h.product) << "  /dev/" << h.node
+            << "  \"" << h.name << "\"  " << devices::toString(rule->driver) << " via hidraw  "
+            << (h.readable ? "ready" : "no permission: install configs/70-vsculpt.rules") << "\n";
+        usable += h.readable;
+    }
+    if (found == 0) {
+        out << "  none. No supported tracker, 3D mouse, pen tablet or headset is connected.\n"
+               "  In the window, the mouse and keyboard stand in for the pen and the 3D mouse "
+               "(docs/window.md).\n";
+    }
+    out << usb.size() << " USB device(s) in all, " << found << " supported, " << usable
+        << " usable.\n";
+    return 0;
+}
+
+int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
+    core::SculptConfig cfg;
+    try {
+        cfg = core::loadConfig(o.configPath.empty() ? core::defaultConfigPath()
+                                                    : std::filesystem::path(o.configPath));
+    } catch (const core::ConfigError& e) {
+        err << "vsculpt record: error: " << e.what() << "\n";
+        return 2;
+    }
+    if (o.outPath.empty()) {
+        err << "vsculpt record: error: --out FILE is required\n";
+        return 2;
+    }
+    Session session(cfg);
+    Interaction interaction(session, o.alwaysEngaged);
+    LiveDevices live(cfg.devices, err);
+    DeviceInput input(cfg.devices, live.rules(), interaction, session);
+    std::unique_ptr<devices::RecordingWriter> writer;
+    try {
+        writer = std::make_unique<devices::RecordingWriter>(
+            o.outPath, live.rules(),
+            std::map<std::string, std::string>{{"config", nlohmann::json::parse(core::configToJson(cfg)).dump()},
+                                               {"always_engaged", o.alwaysEngaged ? "1" : "0"},
+                                               {"vsculpt", "0.1.0"}});
+    } catch (const devices::RecordingError& e) {
+        err << "vsculpt record: error: " << e.what() << "\n";
+        return 2;
+    }
+
+    gStop = false;
+    auto previousInt = std::signal(SIGINT, onSignal);
+    auto previousTerm = std::signal(SIGTERM, onSignal);
+    const auto start = std::chrono::steady_clock::now();
+    bool warnedNone = false;
+    std::set<std::string> present;
+    bool anyArrived = false;
+    int code = 0;
+    out << "vsculpt record: recording to " << o.outPath << " (Ctrl-C to stop)\n" << std::flush;
+    while (!gStop) {
+        try {
+            live.pump([&](const devices::DeviceEvent& e) {
+                writer->write(e);
+                input.handle(e);
+                if (e.kind == devices::DeviceEventKind::Arrived) {
+                    present.insert(e.device);
+                    anyArrived = true;
+                    out << "vsculpt record: " << e.device << " connected\n" << std::flush;
+                } else if (e.kind == devices::DeviceEventKind::Left) {
+                    present.erase(e.device);
+                    out << "vsculpt record: " << e.device << " disconnected\n" << std::flush;
+                }
+            });
+            live.send(input.takeOutput());
+            writer->flush();
+        } catch (const devices::RecordingError& e) {
+            err << "vsculpt record: error: " << e.what() << "\n";
+            code = 1;
+            break;
+        }
+        const double elapsed =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (!warnedNone && !anyArrived && elapsed > 2.0) {
+            warnedNone = true;
+            out << "vsculpt record: no supported device is connected; waiting for one ("
+                << "`vsculpt devices` lists what is there)\n"
+                << std::flush;
+        }
+        if (o.seconds > 0 && elapsed >= o.seconds) break;
+        if (o.untilUnplugged && anyArrived && present.empty()) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    std::signal(SIGINT, previousInt);
+    std::signal(SIGTERM, previousTerm);
+    session.endStroke();
+    const core::Mesh mesh = session.wholeMesh();
+    char hash[17];
+    std::snprintf(hash, sizeof hash, "%016llx",
+                  static_cast<unsigned long long>(core::canonicalMeshHash(mesh)));
+    out << input.summary();
+    out << "vsculpt record: wrote " << writer->eventsWritten() << " event(s) to " << o.outPath
+        << ", mesh hash " << hash << "\n";
+    if (live.droppedReports() > 0)
+        err << "vsculpt record: warning: " << live.droppedReports()
+            << " report(s) dropped (queue full)\n";
+    return code;
+}
+
+}  // namespace vsculpt::app

@@ -134,3 +134,29 @@ TEST(LaFit, RefusesBadStrokes) {
 
 }  // namespace
 }  // namespace vsculpt::sketch
+
+namespace vsculpt::sketch {
+namespace {
+
+TEST(LaFit, RecoversASpaceCurve) {
+    LaSpaceParams truth;
+    truth.alpha = 0.5;
+    truth.startCurvature = 0.05;
+    truth.length = 100.0;
+    truth.lambda = laLambdaForRadiusRatio(truth.alpha, 4.0, truth.length * truth.startCurvature);
+    truth.beta = 1.0;
+    truth.startTorsion = -0.03;
+    truth.omega = laLambdaForRadiusRatio(truth.beta, 3.0, truth.length * 0.03);
+    truth.start.point = {1.0, 2.0, 3.0};
+    truth.start.tangent = {1.0, 0.5, 0.0};
+    truth.start.normal = {0.0, 0.0, 1.0};
+    const LaSpaceFitResult fit = fitLaSpaceCurve(laSpaceCurve(truth, 300).points);
+    EXPECT_NEAR(fit.params.alpha, truth.alpha, 0.1);
+    EXPECT_NEAR(fit.params.beta, truth.beta, 0.1);
+    EXPECT_LT(fit.params.startTorsion, 0.0);
+    EXPECT_LT(fit.maxError, 0.01 * truth.length);
+    EXPECT_THROW(fitLaSpaceCurve(Polyline3{{0, 0, 0}, {1, 1, 1}}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace vsculpt::sketch

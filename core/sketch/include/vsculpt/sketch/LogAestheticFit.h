@@ -35,4 +35,20 @@ struct LaFitResult {
 // or options out of range (samples < 8, maxIterations < 1, halfWindow < 0).
 LaFitResult fitLaPlanarCurve(const Polyline2& drawn, const LaFitOptions& options = {});
 
+struct LaSpaceFitResult {
+    LaSpaceParams params;
+    double rmsError = 0.0;    // mm, between arc-length-corresponding points
+    double maxError = 0.0;    // mm, largest distance of a resampled input point to the LA curve
+    double graphAlpha = 0.0;  // from the curve's CLDG (NaN if degenerate)
+    double graphBeta = 0.0;   // from the curve's TLDG (NaN if degenerate, e.g. a planar curve)
+    int evaluations = 0;
+};
+
+// Space version (paper 002, §2.4: the combined curve replaced by an LA space curve). Same method
+// over 13 parameters: α, ln κ0, ln κ1, β, ln|τ0|, ln|τ1| (torsion sign from the curve's total
+// torsion), start point, a rotation vector applied to the estimated start Frenet frame, and
+// ln length. Curvature and torsion must each be monotone (one LA segment). Throws as
+// fitLaPlanarCurve.
+LaSpaceFitResult fitLaSpaceCurve(const Polyline3& curve, const LaFitOptions& options = {});
+
 }  // namespace vsculpt::sketch

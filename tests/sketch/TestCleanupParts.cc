@@ -1,0 +1,198 @@
+// The pieces of the incremental clean-up: feature points, line mixing, joining, knot division.
+#include "vsculpt/sketch/FeaturePoints.h"
+#include "vsculpt/sketch/JoinFeaturePoints.h"
+#include "vsculpt/sketch/KnotDivision.h"
+#include "vsculpt/sketch/LineMixing.h"
+#include "vsculpt/sketch/NaturalSpline.h"
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+#include <glm/gtc/constants.hpp>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace vsculpt::sketch {
+namespace {
+
+constexpr double kPi = glm::pi<double>();
+
+Polyline2 row(std::initializer_list<double> xs, double y = 0.0) {
+    Polyline2 out;
+    for (double x : xs)
+        out.push_back({x, y});
+    return out;
+}
+
+void expectSame(const Polyline2& got, const Polyline2& want) {
+    ASSERT_EQ(got.size(), want.size());
+    for (std::size_t i = 0; i < got.size(); ++i)
+        EXPECT_LT(glm::distance(got[i], want[i]), 1e-9) << "point " << i;
+}
+
+TEST(FeaturePoints, EndpointsAndFarthestFromChord) {
+    Polyline2 arc;
+    for (int i = 0; i <= 40; ++i) {
+        const double a = kPi * i / 40;
+        arc.push_back({-20 * std::cos(a), 20 * std::sin(a)});
+    }
+    const Polyline2 f = strokeFeaturePoints(arc);
+    ASSERT_EQ(f.size(), 3u);
+    EXPECT_EQ(f[0], arc.front());
+    EXPECT_EQ(f[2], arc.back());
+    EXPECT_LT(glm::distance(f[1], glm::dvec2(0, 20)), 1e-12);  // apex of the half circle
+    EXPECT_THROW(strokeFeaturePoints(Polyline2{{1, 1}}), std::invalid_argument);
+}
+
+TEST(LineMixing, FitAndSeedMixRule) {
+    const Segment2 fit = fitSegment(Polyline2{{0, 1}, {2, 2}, {4, 3}, {10, 6}});
+    EXPECT_LT(glm::distance(fit.a, glm::dvec2(0, 1)), 1e-12);
+    EXPECT_LT(glm::distance(fit.b, glm::dvec2(10, 6)), 1e-12);
+
+    // Older at 0 degrees, newer at 10 degrees drawn the other way round: the mix runs at 5
+    // degrees through the newer midpoint (seed 5.2 step 3).
+    const double t = 10.0 * kPi / 180.0;
+    const Segment2 older{{0, 0}, {40, 0}};
+    const glm::dvec2 mid{20, 2};
+    const glm::dvec2 half = 15.0 * glm::dvec2{std::cos(t), std::sin(t)};
+    const Segment2 newer{mid + half, mid - half};
+    const Segment2 mixed = mixSegments(older, newer);
+    const glm::dvec2 dir = glm::normalize(mixed.b - mixed.a);
+    EXPECT_NEAR(std::atan2(dir.y, dir.x), 0.5 * t, 1e-12);
+    const glm::dvec2 toMid = mid - mixed.a;
+    EXPECT_NEAR(toMid.x * dir.y - toMid.y * dir.x, 0.0, 1e-12);
+    // Extent covers the older segment's ends.
+    EXPECT_LE(glm::dot(older.a - mixed.a, dir), 1e-9);
+    EXPECT_GE(glm::dot(older.b - mixed.b, dir), -1e-9);
+
+    EXPECT_TRUE(isSameLine(older, newer));
+    EXPECT_FALSE(isSameLine(older, Segment2{{0, 10}, {40, 10}}));    // parallel, 10 mm away
+    EXPECT_FALSE(isSameLine(older, Segment2{{20, -10}, {20, 10}}));  // crossing at 90 degrees
+    EXPECT_THROW(mixSegments(older, Segment2{{1, 1}, {1, 1}}), std::invalid_argument);
+}
+
+TEST(JoinFeaturePoints, NoOverlapChainsAndDropsNearPoint) {
+    // Seed Fig. 5.6 (a): the newer A, B, C ends next to older point 0, which is dropped.
+    const Polyline2 older = row({0, 10, 20, 30});
+    const JoinResult r = joinFeaturePoints(older, false, row({-30, -15, -1}));
+    EXPECT_EQ(r.overlap, Overlap::None);
+    EXPECT_EQ(r.olderRemoved, 1u);
+    expectSame(r.points, row({-30, -15, -1, 10, 20, 30}));
+    // Drawn the other way round it is reversed to continue into the older curve.
+    const JoinResult rev = joinFeaturePoints(older, false, row({-1, -15, -30}));
+    EXPECT_TRUE(rev.reversed);
+    expectSame(rev.points, row({-30, -15, -1, 10, 20, 30}));
+    // Beyond the far end the newer points are appended.
+    expectSame(joinFeaturePoints(older, false, row({40, 50, 60})).points,
+               row({0, 10, 20, 30, 40, 50, 60}));
+}
+
+TEST(JoinFeaturePoints, PartialOverlapNewerWins) {
+    // Seed Fig. 5.6 (b): older point 0 lies between B and C and is deleted.
+    const JoinResult r = joinFeaturePoints(row({0, 10, 20, 30}), false, row({-20, -7, 5}, 0.5));
+    EXPECT_EQ(r.overlap, Overlap::Partial);
+    Polyline2 want = row({-20, -7, 5}, 0.5);
+    for (double x : {10.0, 20.0, 30.0})
+        want.push_back({x, 0});
+    expectSame(r.points, want);
+}
+
+TEST(JoinFeaturePoints, FullOverlapReplacesOnlyTheOverlappedPart) {
+    // Seed Fig. 5.6 (c), drawn in both directions.
+    const Polyline2 older = row({0, 10, 20, 30, 40});
+    Polyline2 want{{0, 0}, {10, 0}, {14, 1}, {21, 1.5}, {28, 1}, {40, 0}};
+    for (bool reverse : {false, true}) {
+        Polyline2 newer{{14, 1}, {21, 1.5}, {28, 1}};
+        if (reverse) std::reverse(newer.begin(), newer.end());
+        const JoinResult r = joinFeaturePoints(older, false, newer);
+        EXPECT_EQ(r.overlap, Overlap::Full);
+        EXPECT_EQ(r.reversed, reverse);
+        // 20 is inside the span, 30 within 3 mm of C = (28, 1).
+        EXPECT_EQ(r.olderRemoved, 2u);
+        expectSame(r.points, want);
+    }
+    // A weight of 0.5 moves the newer points halfway from the older curve (here y = 0).
+    JoinParams half;
+    half.newStrokeWeight = 0.5;
+    const JoinResult h =
+        joinFeaturePoints(older, false, Polyline2{{14, 2}, {21, 2}, {26, 2}}, half);
+    for (std::size_t i = 2; i < 5; ++i)
+        EXPECT_NEAR(h.points[i].y, 1.0, 1e-9);
+}
+
+TEST(JoinFeaturePoints, ClosedLoopKeepsLoopAndReplacesOneSide) {
+    const Polyline2 square{{0, 0},   {20, 0},  {40, 0}, {40, 20},
+                           {40, 40}, {20, 40}, {0, 40}, {0, 20}};
+    const Polyline2 newer{{12, 2}, {20, 3}, {28, 2}};  // over the bottom side
+    const JoinResult r = joinFeaturePoints(square, true, newer);
+    // (20, 0) is replaced; the loop is not repeated at its end.
+    EXPECT_EQ(r.points.size(), square.size() + 2);
+    EXPECT_NE(r.points.front(), r.points.back());
+    std::size_t found = 0;
+    for (const glm::dvec2& p : r.points) {
+        EXPECT_GT(glm::distance(p, glm::dvec2(20, 0)), 1e-9);
+        for (const glm::dvec2& q : newer)
+            found += glm::distance(p, q) < 1e-12;
+    }
+    EXPECT_EQ(found, 3u);
+    EXPECT_THROW(joinFeaturePoints(square, true, Polyline2{}), std::invalid_argument);
+    EXPECT_THROW(joinFeaturePoints(Polyline2{{0, 0}, {1, 0}}, true, newer), std::invalid_argument);
+}
+
+TEST(KnotDivision, StraightAndSlightlyBumpyLinesReduceToTwoKnots) {
+    Polyline2 line;
+    for (int i = 0; i <= 100; ++i)
+        line.push_back({double(i), 0.5 * std::sin(i * 0.7)});  // h / L = 0.005
+    EXPECT_EQ(knotDivision(line, false), (std::vector<std::size_t>{0, 100}));
+}
+
+TEST(KnotDivision, KeepsChordCrossingAndSignificantShape) {
+    // One full sine period crosses its chord in the middle: that point is kept.
+    Polyline2 wave;
+    for (int i = 0; i <= 200; ++i)
+        wave.push_back({double(i), 20.0 * std::sin(2 * kPi * i / 200.0)});
+    const auto kept = knotDivision(wave, false);
+    EXPECT_NE(std::find(kept.begin(), kept.end(), 100u), kept.end());
+    // The spline through the kept points follows the wave: Kondo's rule bounds the deviation of
+    // every dropped point from its chord by epsilon * L, and the spline does better than chords.
+    Polyline2 knots;
+    for (std::size_t i : kept)
+        knots.push_back(wave[i]);
+    EXPECT_LT(knots.size(), 20u);
+    const Polyline2 curve = sampleNaturalSpline(knots, false, 32);
+    for (const glm::dvec2& p : curve)
+        EXPECT_NEAR(p.y, 20.0 * std::sin(2 * kPi * p.x / 200.0), 1.0);
+}
+
+TEST(KnotDivision, RemovesSmallBumpKeepsLargeOne) {
+    const auto bumped = [](double height) {
+        Polyline2 c;
+        for (int i = 0; i <= 100; ++i) {
+            const double x = i, u = (x - 50.0) / 5.0;
+            c.push_back({x, height * std::exp(-u * u)});
+        }
+        return c;
+    };
+    EXPECT_EQ(knotDivision(bumped(1.0), false).size(), 2u);  // h / L = 0.01 < 0.03
+    const auto kept = knotDivision(bumped(10.0), false);     // h / L = 0.1
+    EXPECT_GT(kept.size(), 2u);
+    EXPECT_NE(std::find(kept.begin(), kept.end(), 50u), kept.end());  // the peak
+}
+
+TEST(KnotDivision, ClosedCircleKeepsFewKnotsAndRejectsBadInput) {
+    Polyline2 circle;
+    for (int i = 0; i < 128; ++i) {
+        const double a = 2 * kPi * i / 128;
+        circle.push_back({30 * std::cos(a), 30 * std::sin(a)});
+    }
+    const auto kept = knotDivision(circle, true);
+    EXPECT_GE(kept.size(), 4u);
+    EXPECT_LE(kept.size(), 32u);
+    EXPECT_EQ(kept.front(), 0u);
+    EXPECT_NE(std::find(kept.begin(), kept.end(), 64u), kept.end());  // farthest from point 0
+    EXPECT_THROW(knotDivision(circle, true, {0.0}), std::invalid_argument);
+    EXPECT_THROW(knotDivision(Polyline2{{0, 0}, {NAN, 0}}, false), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace vsculpt::sketch

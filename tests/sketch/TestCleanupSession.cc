@@ -161,7 +161,7 @@ TEST(CleanupSession, RepeatedFullOverdrawsStayWithinTheStrokesAndAverageWithWeig
         }
         session.endGroup();
         ASSERT_EQ(session.curveCount(), 1u);
-        const Polyline2& samples = session.curves()[0].samples;
+        const Polyline2& samples = session.curve(0).samples;
         double worst = 0.0, sum2 = 0.0;
         for (const glm::dvec2& p : samples) {
             const double d = distanceToArc(p, {0, 0}, radius);

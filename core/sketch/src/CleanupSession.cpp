@@ -99,6 +99,11 @@ std::vector<CleanCurve> CleanupSession::curves() const {
     return out;
 }
 
+const CleanCurve& CleanupSession::curve(int curveId) const {
+    const Entry& e = history_.at(std::size_t(curveId));
+    return e.versions[std::size_t(e.current)];
+}
+
 const std::vector<CleanCurve>& CleanupSession::versions(int curveId) const {
     return history_.at(std::size_t(curveId)).versions;
 }

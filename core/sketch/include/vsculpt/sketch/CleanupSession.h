@@ -114,8 +114,11 @@ class CleanupSession {
     /// Stroke ids waiting for the trigger, in drawing order.
     const std::vector<int>& pendingStrokes() const { return pending_; }
 
-    /// Current version of every curve, by curve id (0, 1, ... in creation order).
+    /// Current version of every curve, by curve id (0, 1, ... in creation order); a copy.
     std::vector<CleanCurve> curves() const;
+    /// Current version of one curve, without copying; valid until the session next changes.
+    /// Throws std::out_of_range for a bad id.
+    const CleanCurve& curve(int curveId) const;
     std::size_t curveCount() const { return history_.size(); }
     /// All versions of one curve, oldest first; version 0 is the one that created it.
     const std::vector<CleanCurve>& versions(int curveId) const;

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -195,6 +196,35 @@ TEST(TeddyCut, PlaneThroughVerticesIsSnappedAndClosed) {
     const MeshCut cut = cutMeshByPlane(icosphere(3), {{0, 0, 0}, {1, 0, 0}});
     expectValidCut(cut);
     EXPECT_NEAR(enclosedVolume(cut.mesh), 0.5 * enclosedVolume(icosphere(3)), 1e-9);
+}
+
+TEST(TeddyCut, RandomCutsOfInflatedSolidsStayClosed) {
+    const PolyMesh solid = inflateOutline(dumbbell(20, 35, 5), TeddyParams{});
+    std::mt19937 random(11);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    int cuts = 0;
+    for (int trial = 0; trial < 20; ++trial) {
+        SCOPED_TRACE(trial);
+        const double angle = 2 * kPi * unit(random);
+        const glm::dvec2 through{-40 + 80 * unit(random), -15 + 30 * unit(random)};
+        const glm::dvec2 along{std::cos(angle), std::sin(angle)};
+        const Polyline2 stroke{through - 150.0 * along, through + 150.0 * along};
+        MeshCut cut;
+        try {
+            cut = cutMesh(solid, stroke, SketchView{});
+        } catch (const std::invalid_argument&) {
+            continue;  // the line missed the solid or discarded all of it
+        }
+        ++cuts;
+        EXPECT_TRUE(isClosedOriented(cut.mesh));
+        // Genus 0 per kept component: χ = 2 per component (a cut can split the dumbbell).
+        const long chi = eulerCharacteristic(cut.mesh);
+        EXPECT_TRUE(chi == 2 || chi == 4) << chi;
+        EXPECT_GT(enclosedVolume(cut.mesh), 0.0);
+        for (const auto& v : cut.mesh.vertices)
+            EXPECT_LE(glm::dot(cut.plane.normal, v - cut.plane.point), 1e-9);
+    }
+    EXPECT_GT(cuts, 10);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 #include <numeric>
+#include <random>
 #include <stdexcept>
 #include <string>
 
@@ -346,6 +347,32 @@ TEST(TeddyInflate, CoarseEllipseSamplingStillClosed) {
         const PolyMesh mesh = inflateOutline(threeArms(), p);
         EXPECT_TRUE(isClosedOriented(mesh));
         EXPECT_EQ(eulerCharacteristic(mesh), 2);
+    }
+}
+
+TEST(TeddyInflate, RandomOutlinesGiveClosedSolids) {
+    // Star-shaped outlines with random low-frequency radius, some deeply concave.
+    std::mt19937 random(7);
+    std::uniform_real_distribution<double> amplitude(-1.0, 1.0);
+    for (int trial = 0; trial < 30; ++trial) {
+        SCOPED_TRACE(trial);
+        std::array<double, 6> c{}, phase{};
+        for (int k = 0; k < 6; ++k)
+            c[k] = 4.0 * amplitude(random) / (k + 1), phase[k] = 3 * amplitude(random);
+        Polyline2 outline;
+        for (int i = 0; i < 240; ++i) {
+            const double t = 2 * kPi * i / 240;
+            double r = 25;
+            for (int k = 0; k < 6; ++k)
+                r += c[k] * std::cos((k + 2) * t + phase[k]);
+            outline.push_back({r * std::cos(t), r * std::sin(t)});
+        }
+        const TeddyInflation result = inflateOutlineDetailed(outline, params(1.5));
+        EXPECT_TRUE(isClosedOriented(result.mesh));
+        EXPECT_EQ(eulerCharacteristic(result.mesh), 2);
+        EXPECT_TRUE(graphIsTree(result.spine));
+        for (double h : result.spineHeights)
+            EXPECT_GT(h, 0.0);
     }
 }
 

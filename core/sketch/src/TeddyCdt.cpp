@@ -49,6 +49,8 @@ std::vector<std::array<int, 3>> triangulateLoops(const std::vector<glm::dvec2>& 
         for (const auto& loop : loops)
             for (std::size_t i = 0; i < loop.size(); ++i)
                 cdt.insert_constraint(handles[loop[i]], handles[loop[(i + 1) % loop.size()]]);
+    } catch (const Cdt::Intersection_of_constraints_exception&) {
+        throw std::invalid_argument("triangulateLoops: loop edges intersect");
     } catch (const CGAL::Failure_exception&) {
         throw std::invalid_argument("triangulateLoops: loop edges intersect");
     }

@@ -139,6 +139,49 @@ TEST(JoinFeaturePoints, ClosedLoopKeepsLoopAndReplacesOneSide) {
     EXPECT_THROW(joinFeaturePoints(Polyline2{{0, 0}, {1, 0}}, true, newer), std::invalid_argument);
 }
 
+TEST(JoinFeaturePoints, StrokeBridgingEndToStartClosesTheLoop) {
+    const auto onCircle = [](double deg) {
+        const double a = deg * kPi / 180.0;
+        return glm::dvec2{30 * std::cos(a), 30 * std::sin(a)};
+    };
+    Polyline2 older;
+    for (double deg : {0.0, 70.0, 140.0, 200.0, 260.0})
+        older.push_back(onCircle(deg));
+    const Polyline2 newer{onCircle(240), onCircle(310), onCircle(20)};
+    const JoinResult r = joinFeaturePoints(older, false, newer);
+    EXPECT_EQ(r.overlap, Overlap::Closes);
+    // Older 0 and 260 lie outside the stretch 20..240 (and within merge distance of nothing
+    // else); 70, 140, 200 are kept, then the bridge.
+    Polyline2 want{onCircle(70), onCircle(140), onCircle(200)};
+    want.insert(want.end(), newer.begin(), newer.end());
+    expectSame(r.points, want);
+}
+
+TEST(FeaturePoints, RefinedForStronglyBentStrokes) {
+    Polyline2 half;
+    for (int i = 0; i <= 180; ++i) {
+        const double a = kPi * i / 180;
+        half.push_back({40 * std::cos(a), 40 * std::sin(a)});
+    }
+    EXPECT_EQ(strokeFeaturePoints(half, 0.0).size(), 3u);
+    const Polyline2 fine = strokeFeaturePoints(half, 0.05);
+    EXPECT_GT(fine.size(), 5u);
+    EXPECT_EQ(fine.front(), half.front());
+    EXPECT_EQ(fine.back(), half.back());
+    // Between consecutive feature points every stroke point is within 5 % of the chord.
+    for (std::size_t k = 0; k + 1 < fine.size(); ++k) {
+        const glm::dvec2 a = fine[k], b = fine[k + 1];
+        for (const glm::dvec2& p : half) {
+            const glm::dvec2 d = b - a;
+            const double t = glm::dot(p - a, d) / glm::dot(d, d);
+            if (t <= 0.0 || t >= 1.0 || glm::dot(p, a + b) < 0.0) continue;  // other pieces
+            const double h = std::abs(d.x * (p - a).y - d.y * (p - a).x) / glm::length(d);
+            EXPECT_LE(h, 0.05 * glm::length(d) + 1e-9);
+        }
+    }
+    EXPECT_THROW(strokeFeaturePoints(half, -1.0), std::invalid_argument);
+}
+
 TEST(KnotDivision, StraightAndSlightlyBumpyLinesReduceToTwoKnots) {
     Polyline2 line;
     for (int i = 0; i <= 100; ++i)

@@ -321,6 +321,47 @@ TEST(CleanupSession, OlderStrokeCanBeChosenAgain) {
     EXPECT_THROW(session.restartFromStroke(0, 7), std::out_of_range);
 }
 
+TEST(CleanupSession, RandomScribblingNeverBreaksTheSession) {
+    // Random walks, repeated points, tiny strokes, all three triggers: only zero-length strokes
+    // are refused, and every curve stays finite and well formed.
+    for (CleanupTrigger trigger :
+         {CleanupTrigger::PauseTime, CleanupTrigger::Pressure, CleanupTrigger::Explicit}) {
+        CleanupParams params;
+        params.trigger = trigger;
+        CleanupSession session(params);
+        Rng rng{static_cast<std::uint64_t>(trigger) + 100};
+        double t = 0.0;
+        for (int k = 0; k < 60; ++k) {
+            Stroke s;
+            s.hasPressure = true;
+            glm::dvec2 p{rng.uniform(0, 100), rng.uniform(0, 100)};
+            const int n = int(rng.uniform(1, 40));
+            const double step = rng.uniform(0.0, 1.0) < 0.2 ? 0.01 : rng.uniform(0.5, 8);
+            for (int i = 0; i < n; ++i) {
+                if (rng.uniform(0, 1) > 0.1)
+                    p += step * glm::dvec2{rng.uniform(-1, 1), rng.uniform(-1, 1)};
+                s.samples.push_back({p, t, rng.uniform(0, 1)});
+                t += 0.01;
+            }
+            t += rng.uniform(0, 2);
+            const StrokeKind kind = rng.uniform(0, 1) < 0.3 ? StrokeKind::Line : StrokeKind::Curve;
+            if (strokeLength(s) > 0.0)
+                session.addStroke(s, kind);
+            else
+                EXPECT_THROW(session.addStroke(s, kind), std::invalid_argument);
+            if (k % 7 == 0) session.advanceTime(t);
+            if (k % 11 == 0) session.endGroup();
+        }
+        session.endGroup();
+        for (const CleanCurve& c : session.curves()) {
+            ASSERT_GE(c.knots.size(), c.closed ? 3u : 2u);
+            ASSERT_FALSE(c.samples.empty());
+            for (const glm::dvec2& p : c.samples)
+                ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y));
+        }
+    }
+}
+
 TEST(CleanupSession, DeterministicAndRejectsBadStrokes) {
     const auto run = [] {
         CleanupSession s(explicitParams());

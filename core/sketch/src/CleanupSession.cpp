@@ -71,9 +71,11 @@ bool CleanupSession::advanceTime(double now) {
 
 bool CleanupSession::endGroup() {
     if (pending_.empty()) return false;
-    const std::vector<int> group = std::move(pending_);
+    // Work on a copy so that a failure leaves the session as it was (strong guarantee).
+    std::vector<Entry> next = history_;
+    cleanGroup(pending_, next);
+    history_ = std::move(next);
     pending_.clear();
-    cleanGroup(group, history_);
     return true;
 }
 

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <utility>
 
@@ -84,7 +85,7 @@ std::vector<CleanCurve> CleanupSession::previewPending() const {
     std::vector<CleanCurve> out;
     for (int id : cleanGroup(pending_, copy)) {
         const Entry& e = copy[std::size_t(id)];
-        out.push_back(e.versions[std::size_t(e.current)]);
+        out.push_back(e.cur());
     }
     return out;
 }
@@ -97,17 +98,23 @@ std::vector<CleanCurve> CleanupSession::curves() const {
     std::vector<CleanCurve> out;
     out.reserve(history_.size());
     for (const Entry& e : history_)
-        out.push_back(e.versions[std::size_t(e.current)]);
+        out.push_back(e.cur());
     return out;
 }
 
 const CleanCurve& CleanupSession::curve(int curveId) const {
-    const Entry& e = history_.at(std::size_t(curveId));
-    return e.versions[std::size_t(e.current)];
+    return history_.at(std::size_t(curveId)).cur();
 }
 
-const std::vector<CleanCurve>& CleanupSession::versions(int curveId) const {
-    return history_.at(std::size_t(curveId)).versions;
+std::size_t CleanupSession::versionCount(int curveId) const {
+    return history_.at(std::size_t(curveId)).versions.size();
+}
+
+const CleanCurve& CleanupSession::version(int curveId, int version) const {
+    const Entry& e = history_.at(std::size_t(curveId));
+    if (version < 0 || std::size_t(version) >= e.versions.size())
+        throw std::out_of_range("CleanupSession::version: no such version");
+    return *e.versions[std::size_t(version)];
 }
 
 int CleanupSession::currentVersion(int curveId) const {
@@ -124,7 +131,7 @@ void CleanupSession::selectVersion(int curveId, int version) {
 int CleanupSession::restartFromStroke(int curveId, int strokeId) {
     Entry& e = history_.at(std::size_t(curveId));
     const StrokeKind kind = kinds_.at(std::size_t(strokeId));
-    if (kind != e.versions.front().kind)
+    if (kind != e.versions.front()->kind)
         throw std::invalid_argument("CleanupSession::restartFromStroke: stroke kind differs");
     CleanCurve curve;
     if (kind == StrokeKind::Line) {
@@ -136,7 +143,7 @@ int CleanupSession::restartFromStroke(int curveId, int strokeId) {
         buildCurve({strokeId}, knots, closed);
         curve = makeCurve(curveId, kind, std::move(knots), closed, {strokeId});
     }
-    e.versions.push_back(std::move(curve));
+    e.versions.push_back(std::make_shared<const CleanCurve>(std::move(curve)));
     e.current = int(e.versions.size()) - 1;
     return e.current;
 }
@@ -289,7 +296,7 @@ void CleanupSession::cleanLineStroke(int strokeId, std::vector<Entry>& history,
     int best = -1;
     double bestDist = 0.0;
     for (std::size_t i = 0; i < history.size(); ++i) {
-        const CleanCurve& c = history[i].versions[std::size_t(history[i].current)];
+        const CleanCurve& c = history[i].cur();
         if (c.kind != StrokeKind::Line) continue;
         const Segment2 line{c.knots[0], c.knots[1]};
         if (!isSameLine(line, seg, params_.line)) continue;
@@ -301,14 +308,14 @@ void CleanupSession::cleanLineStroke(int strokeId, std::vector<Entry>& history,
     }
     if (best < 0) {
         Entry e;
-        e.versions.push_back(
-            makeCurve(int(history.size()), StrokeKind::Line, {seg.a, seg.b}, false, {strokeId}));
+        e.versions.push_back(std::make_shared<const CleanCurve>(
+            makeCurve(int(history.size()), StrokeKind::Line, {seg.a, seg.b}, false, {strokeId})));
         touched.push_back(int(history.size()));
         history.push_back(std::move(e));
         return;
     }
     Entry& e = history[std::size_t(best)];
-    const CleanCurve& cur = e.versions[std::size_t(e.current)];
+    const CleanCurve& cur = e.cur();
     LineMixParams mix = params_.line;
     if (params_.lineRunningMean)
         mix.angleWeight = mix.offsetWeight = 1.0 / double(cur.strokes.size() + 1);
@@ -317,9 +324,10 @@ void CleanupSession::cleanLineStroke(int strokeId, std::vector<Entry>& history,
     ids.push_back(strokeId);
     CleanCurve next = makeCurve(best, StrokeKind::Line, {mixed.a, mixed.b}, false, ids);
     if (contains(touched, best)) {
-        e.versions[std::size_t(e.current)] = std::move(next);  // one version per group
+        e.versions[std::size_t(e.current)] =
+            std::make_shared<const CleanCurve>(std::move(next));  // one version per group
     } else {
-        e.versions.push_back(std::move(next));
+        e.versions.push_back(std::make_shared<const CleanCurve>(std::move(next)));
         e.current = int(e.versions.size()) - 1;
         touched.push_back(best);
     }
@@ -345,11 +353,25 @@ std::vector<int> CleanupSession::cleanGroup(const std::vector<int>& group,
         const Polyline2 p = resampled(id);
         ink.insert(ink.end(), p.begin(), p.end());
     }
+    glm::dvec2 inkLo = ink.front(), inkHi = ink.front();
+    for (const glm::dvec2& p : ink) {
+        inkLo = glm::min(inkLo, p);
+        inkHi = glm::max(inkHi, p);
+    }
     int target = -1;
     double bestFraction = 0.0;
     for (std::size_t i = 0; i < history.size(); ++i) {
-        const CleanCurve& c = history[i].versions[std::size_t(history[i].current)];
+        const CleanCurve& c = history[i].cur();
         if (c.kind != StrokeKind::Curve || c.samples.empty()) continue;
+        glm::dvec2 lo = c.samples.front(), hi = lo;
+        for (const glm::dvec2& p : c.samples) {
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+        // Cheap rejection before projecting every ink point: boxes too far apart to attach.
+        const double d = params_.attachDistance;
+        if (lo.x - d > inkHi.x || inkLo.x > hi.x + d || lo.y - d > inkHi.y || inkLo.y > hi.y + d)
+            continue;
         Polyline2 path = c.samples;
         if (c.closed) path.push_back(path.front());
         std::size_t near = 0;
@@ -365,8 +387,7 @@ std::vector<int> CleanupSession::cleanGroup(const std::vector<int>& group,
     bool closed = false;
     std::vector<int> strokeIds;
     if (target >= 0) {
-        const CleanCurve& cur = history[std::size_t(target)]
-                                    .versions[std::size_t(history[std::size_t(target)].current)];
+        const CleanCurve& cur = history[std::size_t(target)].cur();
         knots = anchoredKnots(cur, ids);
         closed = cur.closed;
         strokeIds = cur.strokes;
@@ -378,7 +399,8 @@ std::vector<int> CleanupSession::cleanGroup(const std::vector<int>& group,
         history.push_back({});
     }
     Entry& e = history[std::size_t(target)];
-    e.versions.push_back(makeCurve(target, StrokeKind::Curve, std::move(knots), closed, strokeIds));
+    e.versions.push_back(std::make_shared<const CleanCurve>(
+        makeCurve(target, StrokeKind::Curve, std::move(knots), closed, strokeIds)));
     e.current = int(e.versions.size()) - 1;
     touched.push_back(target);
     return touched;

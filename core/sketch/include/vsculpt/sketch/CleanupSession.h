@@ -17,6 +17,7 @@
 #include "vsculpt/sketch/StrokeClosedness.h"
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 namespace vsculpt::sketch {
@@ -116,12 +117,16 @@ class CleanupSession {
 
     /// Current version of every curve, by curve id (0, 1, ... in creation order); a copy.
     std::vector<CleanCurve> curves() const;
-    /// Current version of one curve, without copying; valid until the session next changes.
+    /// Current version of one curve, without copying. The reference stays valid for the
+    /// session's lifetime, but a later group or selectVersion may make another version current.
     /// Throws std::out_of_range for a bad id.
     const CleanCurve& curve(int curveId) const;
     std::size_t curveCount() const { return history_.size(); }
-    /// All versions of one curve, oldest first; version 0 is the one that created it.
-    const std::vector<CleanCurve>& versions(int curveId) const;
+    /// Versions of one curve, oldest first; version 0 is the one that created it. References
+    /// stay valid for the session's lifetime (versions are immutable and never removed).
+    /// Throw std::out_of_range for bad indices.
+    std::size_t versionCount(int curveId) const;
+    const CleanCurve& version(int curveId, int version) const;
     int currentVersion(int curveId) const;
 
     /// Makes an older (or newer) version current again; later corrections build on it and are
@@ -136,8 +141,11 @@ class CleanupSession {
     const CleanupParams& params() const { return params_; }
 
   private:
+    // Versions are shared and immutable, so copying the history for a trial clean-up (strong
+    // exception guarantee, previewPending) copies pointers, not polylines.
     struct Entry {
-        std::vector<CleanCurve> versions;
+        std::vector<std::shared_ptr<const CleanCurve>> versions;
+        const CleanCurve& cur() const { return *versions[std::size_t(current)]; }
         int current = 0;
     };
 

@@ -43,6 +43,8 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
                    "Run a playback script in the window, a command per frame");
     cli.add_option("--shot", window.shotPath, "With --frames: save the last frame as PNG");
     cli.add_flag("--hidden", window.hidden, "Do not show the window (automated runs)");
+    cli.add_flag("!--no-devices", window.devices,
+                 "Do not open trackers, 3D mice or headsets (mouse and keyboard only)");
     CLI::App* infoCmd = cli.add_subcommand(
         "info", "Print the initial sculpture's summary: tool levels, calibration, mesh");
 
@@ -91,9 +93,6 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         ->check(CLI::NonNegativeNumber);
     recordCmd->add_flag("--until-unplugged", record.untilUnplugged,
                         "Stop once every device that connected has been unplugged again");
-    recordCmd->add_flag(
-        "!--engage-with-button", record.alwaysEngaged,
-        "The stylus switch engages the tool (default: always engaged, as in the thesis)");
 
     RenderOptions still;
     CLI::App* renderCmd = cli.add_subcommand(

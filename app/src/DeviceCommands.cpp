@@ -140,16 +140,16 @@ int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
         return 2;
     }
     Session session(cfg);
-    Interaction interaction(session, o.alwaysEngaged);
+    Interaction interaction(session);
     LiveDevices live(cfg.devices, err);
     DeviceInput input(cfg.devices, live.rules(), interaction, session);
     std::unique_ptr<devices::RecordingWriter> writer;
     try {
         writer = std::make_unique<devices::RecordingWriter>(
             o.outPath, live.rules(),
-            std::map<std::string, std::string>{{"config", nlohmann::json::parse(core::configToJson(cfg)).dump()},
-                                               {"always_engaged", o.alwaysEngaged ? "1" : "0"},
-                                               {"vsculpt", "0.1.0"}});
+            std::map<std::string, std::string>{
+                {"config", nlohmann::json::parse(core::configToJson(cfg)).dump()},
+                {"vsculpt", "0.1.0"}});
     } catch (const devices::RecordingError& e) {
         err << "vsculpt record: error: " << e.what() << "\n";
         return 2;

@@ -284,7 +284,12 @@ struct DeviceInput::State {
                 continue;
             }
             toolWorld = world;
-            if (t.stylus) interaction.setEngaged((s.buttons & 1u) != 0);
+            // The thesis: always engaged. Otherwise the stylus switch, when the records carry
+            // it; without one the tool is engaged elsewhere (a window's mouse button).
+            if (cfg.penAlwaysEngaged)
+                interaction.setEngaged(true);
+            else if (t.stylus)
+                interaction.setEngaged((s.buttons & 1u) != 0);
             try {
                 interaction.moveTool(world);
             } catch (const std::exception&) {

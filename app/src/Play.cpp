@@ -205,8 +205,7 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
     std::string deviceSummary;
     if (recording) {
         // Device replay: the same decoders and mapping as a live run, event by event.
-        Interaction interaction(*session, recording->meta.count("always_engaged") &&
-                                              recording->meta.at("always_engaged") == "1");
+        Interaction interaction(*session);
         std::vector<devices::DeviceRule> rules = recording->devices;
         const core::DevicesConfig& dc = cfg.devices;
         DeviceInput input(dc, rules, interaction, *session);

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/app/Window.h"
 
+#include "vsculpt/app/DeviceInput.h"
 #include "vsculpt/app/Interaction.h"
+#include "vsculpt/app/LiveDevices.h"
 #include "vsculpt/app/Session.h"
 #include "vsculpt/core/EvalField.h"
 #include "vsculpt/render/RayTrace.h"
@@ -15,6 +17,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <memory>
+#include <optional>
 #include <ostream>
 
 namespace vsculpt::app {
@@ -98,11 +102,24 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
 
     Session session(cfg);
     Interaction ui(session);
-    glm::dmat4 worldFromObject(1.0);  // the object's pose, turned by right-dragging
-    double yaw = 0, pitch = 0;
+    // Trackers, 3D mice and headsets, when connected (docs/devices.md); the mouse and
+    // keyboard below work either way. The session's object pose is the one truth: the 3D
+    // mouse and mouse drags both change it, strokes are placed with it.
+    std::unique_ptr<LiveDevices> live;
+    std::unique_ptr<DeviceInput> devices;
+    if (o.devices) {
+        live = std::make_unique<LiveDevices>(cfg.devices, err);
+        devices = std::make_unique<DeviceInput>(cfg.devices, live->rules(), ui, session);
+    }
+    auto worldFromObjectMatrix = [&] {
+        const RigidTransform& p = session.objectPose();
+        glm::dmat4 m = glm::mat4_cast(p.rotation);
+        m[3] = glm::dvec4(p.translation, 1.0);
+        return m;
+    };
+    glm::dmat4 worldFromObject = worldFromObjectMatrix();
     double cursorX = o.width / 2.0, cursorY = o.height / 2.0, lastX = cursorX, lastY = cursorY;
     bool rotating = false, moving = false;
-    glm::dvec3 offset(0.0);  // the object's translation in the world, from middle-dragging
     double depthOffset = 0;  // mm along the pointer ray, from the scroll wheel
     size_t commandIndex = 0, frame = 0;
     double frameMs = 0;
@@ -205,23 +222,48 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
                 lastY = cursorY;
                 cursorX = ev.x;
                 cursorY = ev.y;
-                if (rotating) {
-                    yaw += (cursorX - lastX) * cfg.interaction.rotateRadPerPixel;
-                    pitch += (cursorY - lastY) * cfg.interaction.rotateRadPerPixel;
-                }
-                if (moving) {
-                    // In the view plane (x right, z up), scaled to the framed sculpture.
-                    const double mmPerPixel =
-                        glm::length(frameBox.max - frameBox.min) / std::max(1, viewer->height());
-                    offset += glm::dvec3((cursorX - lastX) * mmPerPixel, 0,
-                                         -(cursorY - lastY) * mmPerPixel);
+                if (rotating || moving) {
+                    RigidTransform pose = session.objectPose();
+                    if (rotating) {
+                        // Turn about world axes through the object's centre: horizontal drags
+                        // about the vertical (z), vertical drags about x.
+                        const double yaw = (cursorX - lastX) * cfg.interaction.rotateRadPerPixel;
+                        const double pitch = (cursorY - lastY) * cfg.interaction.rotateRadPerPixel;
+                        pose.rotation =
+                            glm::normalize(glm::angleAxis(pitch, Vec3(1, 0, 0)) *
+                                           glm::angleAxis(yaw, Vec3(0, 0, 1)) * pose.rotation);
+                    }
+                    if (moving) {
+                        // In the view plane (x right, z up), scaled to the framed sculpture.
+                        const double mmPerPixel = glm::length(frameBox.max - frameBox.min) /
+                                                  std::max(1, viewer->height());
+                        pose.translation += Vec3((cursorX - lastX) * mmPerPixel, 0,
+                                                 -(cursorY - lastY) * mmPerPixel);
+                    }
+                    session.setObjectPose(pose);
                 }
             }
             if (ev.kind == K::Scroll)
                 depthOffset += ev.y * cfg.interaction.depthStepOverDiameter * level.diameterMm;
         }
-        worldFromObject = glm::rotate(glm::rotate(glm::dmat4(1.0), pitch, glm::dvec3(1, 0, 0)), yaw,
-                                      glm::dvec3(0, 0, 1));
+        if (live) {
+            try {
+                live->pump([&](const devices::DeviceEvent& e) {
+                    if (e.kind == devices::DeviceEventKind::Arrived ||
+                        e.kind == devices::DeviceEventKind::Left)
+                        out << "vsculpt: " << e.device
+                            << (e.kind == devices::DeviceEventKind::Arrived ? " connected\n"
+                                                                            : " disconnected\n");
+                    devices->handle(e);
+                });
+                live->send(devices->takeOutput());
+            } catch (const std::exception& e) {
+                err << "vsculpt: " << e.what() << "\n";
+            }
+        }
+        worldFromObject = worldFromObjectMatrix();
+        // A tracker pen, when one reports, places the tool; the pointer does otherwise.
+        const std::optional<Vec3> penWorld = devices ? devices->toolWorld() : std::nullopt;
 
         // The tool follows the surface under the pointer (plus the scroll depth): march the
         // field along the pointer ray in object space.
@@ -249,32 +291,37 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
             viewer->pixelToEyeNdc(cursorX, cursorY, mode, nx, ny);
             if (!render::pickPalette(palette, nx, ny)) lastSculptPoint = oObj + hitT * dObj;
         }
-        toolWorld = Vec3(worldFromObject * glm::dvec4(toolObject, 1));
-        try {
-            ui.moveTool(toolWorld);
-        } catch (const std::exception& e) {
-            err << "vsculpt: " << e.what() << "\n";
+        if (penWorld) {
+            toolWorld = *penWorld;  // DeviceInput already moved the tool with every sample
+        } else {
+            toolWorld = Vec3(worldFromObject * glm::dvec4(toolObject, 1));
+            try {
+                ui.moveTool(toolWorld);
+            } catch (const std::exception& e) {
+                err << "vsculpt: " << e.what() << "\n";
+            }
         }
+        const Vec3 toolInObject = Vec3(objectFromWorld * glm::dvec4(toolWorld, 1));
         // Contact cue from the field at and around the tool.
         render::ToolDraw tool;
         tool.worldPos = toolWorld;
         tool.radiusMm = toolRadius;
         tool.selectBox = session.tool() == ToolKind::Select;
-        if (probe.value(toolObject) > 0) {
+        if (probe.value(toolInObject) > 0) {
             tool.contact = 2;
         } else {
             for (const Vec3& d : {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0),
                                   Vec3(0, 0, 1), Vec3(0, 0, -1)})
-                if (probe.value(toolObject + d * tool.radiusMm) > 0) tool.contact = 1;
+                if (probe.value(toolInObject + d * tool.radiusMm) > 0) tool.contact = 1;
         }
 
         // Depth cue: the point of the surface straight below the tool (world -z).
         {
             const Vec3 down = glm::normalize(Vec3(objectFromWorld * glm::dvec4(0, 0, -1, 0)));
             for (double t = 0; t < far; t += step) {
-                if (probe.value(toolObject + t * down) > 0) {
+                if (probe.value(toolInObject + t * down) > 0) {
                     tool.shadow = true;
-                    tool.shadowPos = Vec3(worldFromObject * glm::dvec4(toolObject + t * down, 1));
+                    tool.shadowPos = Vec3(worldFromObject * glm::dvec4(toolInObject + t * down, 1));
                     break;
                 }
             }
@@ -317,6 +364,7 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
         if (last) running = false;
     }
     session.endStroke();
+    if (devices && !devices->counters().empty()) out << devices->summary();
     out << "vsculpt: " << frame << " frame(s), " << session.sculpture().counts().total()
         << " skeletons, last frame " << frameMs << " ms\n";
     return 0;

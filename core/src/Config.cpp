@@ -138,6 +138,12 @@ void parseDevices(Section dev, DevicesConfig& out) {
     tracker.vec3("world_from_tracker_translation_mm", out.worldFromTrackerTranslationMm);
     tracker.vec3("world_from_tracker_rotation_deg", out.worldFromTrackerRotationDeg);
     tracker.vec3("pen_tip_mm", out.penTipMm);
+    if (const json* v = tracker.find("always_engaged")) {
+        if (!v->is_boolean())
+            tracker.fail("devices.tracker.always_engaged",
+                         "expected true or false, got " + v->dump());
+        out.penAlwaysEngaged = v->get<bool>();
+    }
     tracker.rejectUnknown();
 
     if (const json* list = dev.find("match")) {
@@ -482,7 +488,8 @@ std::string configToJson(const SculptConfig& c) {
                           {"head_station", c.devices.headStation},
                           {"world_from_tracker_translation_mm", {t.x, t.y, t.z}},
                           {"world_from_tracker_rotation_deg", {r.x, r.y, r.z}},
-                          {"pen_tip_mm", {tip.x, tip.y, tip.z}}}}};
+                          {"pen_tip_mm", {tip.x, tip.y, tip.z}},
+                          {"always_engaged", c.devices.penAlwaysEngaged}}}};
         if (!c.devices.match.empty()) j["devices"]["match"] = match;
     }
     j["interaction"] = {{"bindings", c.interaction.bindings},

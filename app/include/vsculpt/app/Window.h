@@ -17,6 +17,7 @@ struct WindowOptions {
     std::string playScript;  ///< run this script first (one command per frame)
     std::string shotPath;    ///< PNG of the last frame
     bool hidden = false;     ///< no visible window (with frames/shot: automated runs)
+    bool devices = true;     ///< open trackers, 3D mice and headsets (docs/devices.md)
 };
 
 /// Exit code 0; 1 when no window can be opened (the message says why and points to

@@ -106,6 +106,9 @@ struct DevicesConfig {
     Vec3 worldFromTrackerTranslationMm{0.0};
     Vec3 worldFromTrackerRotationDeg{0.0};  ///< applied as Rz * Ry * Rx
     Vec3 penTipMm{0.0};                     ///< tip offset in the pen sensor's frame
+    /// The thesis: the tool acts whenever the pen moves. false: only while the stylus switch
+    /// is pressed (trackers whose records carry it).
+    bool penAlwaysEngaged = true;
 };
 
 /// The devices vsculpt knows out of the box (3Dconnexion mice, Polhemus trackers, Wacom

@@ -45,6 +45,18 @@ TEST(Config, ShippedFileEqualsBuiltInDefaults) {
     EXPECT_EQ(file.render.fullscreenMonitor, def.render.fullscreenMonitor);
     EXPECT_EQ(file.interaction.depthStepOverDiameter, def.interaction.depthStepOverDiameter);
     EXPECT_EQ(file.interaction.rotateRadPerPixel, def.interaction.rotateRadPerPixel);
+    EXPECT_EQ(file.devices.match.size(), def.devices.match.size());
+    EXPECT_EQ(file.devices.transfersInFlight, def.devices.transfersInFlight);
+    EXPECT_EQ(file.devices.stallTimeoutS, def.devices.stallTimeoutS);
+    EXPECT_EQ(file.devices.rescanIntervalS, def.devices.rescanIntervalS);
+    EXPECT_EQ(file.devices.mouseFullScale, def.devices.mouseFullScale);
+    EXPECT_EQ(file.devices.mouseDeadZone, def.devices.mouseDeadZone);
+    EXPECT_EQ(file.devices.objectTranslateMmPerS, def.devices.objectTranslateMmPerS);
+    EXPECT_EQ(file.devices.objectRotateDegPerS, def.devices.objectRotateDegPerS);
+    EXPECT_EQ(file.devices.penStation, def.devices.penStation);
+    EXPECT_EQ(file.devices.headStation, def.devices.headStation);
+    EXPECT_EQ(file.devices.penTipMm, def.devices.penTipMm);
+    EXPECT_EQ(file.devices.penAlwaysEngaged, def.devices.penAlwaysEngaged);
     // The thesis's values.
     EXPECT_EQ(def.growth, 1.5);
     EXPECT_EQ(def.spacingOverDiameter, 0.5);
@@ -155,11 +167,94 @@ TEST(Config, MissingFileIsAConfigErrorNamingThePath) {
     }
 }
 
-TEST(Config, CommentsAndLaterStageSectionsAreAccepted) {
-    const SculptConfig c = parseConfig(
-        "// header\n{ /* inline */ \"tools\": {\"d4_mm\": 8}, \"devices\": {\"pen\": 2} }",
-        "c.json");
+TEST(Config, CommentsAreAccepted) {
+    const SculptConfig c =
+        parseConfig("// header\n{ /* inline */ \"tools\": {\"d4_mm\": 8} }", "c.json");
     EXPECT_EQ(c.d4Mm, 8);
+}
+
+TEST(Config, DevicesSection) {
+    const SculptConfig c = parseConfig(R"({"devices": {
+        "transfers_in_flight": 2, "stall_timeout_s": 3.5, "rescan_interval_s": 0.5,
+        "object_from_3d_mouse": {"full_scale": 500, "dead_zone": 0.1, "translate_mm_per_s": 50,
+                                 "rotate_deg_per_s": 45},
+        "tracker": {"pen_station": 3, "head_station": 1, "pen_tip_mm": [0, 0, 120],
+                    "world_from_tracker_translation_mm": [10, 20, 30],
+                    "world_from_tracker_rotation_deg": [180, 0, 90], "always_engaged": false},
+        "match": [{"name": "liberty", "driver": "polhemus", "access": "libusb",
+                   "vendor": "0x0f44", "products": ["0xff20", 65298], "in_endpoint": "0x88",
+                   "out_endpoint": 4},
+                  {"name": "mouse", "driver": "spacemouse", "vendor": 9839, "products": [50741]}]
+    }})",
+                                       "d.json");
+    EXPECT_EQ(c.devices.transfersInFlight, 2);
+    EXPECT_EQ(c.devices.stallTimeoutS, 3.5);
+    EXPECT_EQ(c.devices.mouseFullScale, 500);
+    EXPECT_EQ(c.devices.objectRotateDegPerS, 45);
+    EXPECT_EQ(c.devices.penStation, 3);
+    EXPECT_EQ(c.devices.penTipMm, Vec3(0, 0, 120));
+    EXPECT_EQ(c.devices.worldFromTrackerRotationDeg, Vec3(180, 0, 90));
+    EXPECT_FALSE(c.devices.penAlwaysEngaged);
+    ASSERT_EQ(c.devices.match.size(), 2u);
+    EXPECT_EQ(c.devices.match[0].vendor, 0x0f44);
+    EXPECT_EQ(c.devices.match[0].products, (std::vector<int>{0xff20, 0xff12}));
+    EXPECT_EQ(c.devices.match[0].inEndpoint, 0x88);
+    EXPECT_EQ(c.devices.match[0].outEndpoint, 4);
+    EXPECT_EQ(c.devices.match[1].access, "hidraw");  // the default: the desktop keeps HID devices
+    // Round trip through configToJson.
+    const SculptConfig back = parseConfig(configToJson(c), "back.json");
+    EXPECT_EQ(back.devices.match.size(), 2u);
+    EXPECT_EQ(back.devices.match[0].products, c.devices.match[0].products);
+    EXPECT_EQ(back.devices.penTipMm, c.devices.penTipMm);
+    EXPECT_EQ(back.devices.penAlwaysEngaged, c.devices.penAlwaysEngaged);
+    // The built-in table is used when the config names no device; it is valid itself.
+    EXPECT_TRUE(SculptConfig().devices.match.empty());
+    EXPECT_FALSE(knownDeviceMatches().empty());
+}
+
+TEST(Config, BadDevicesNameTheField) {
+    const Bad cases[] = {
+        {R"({"devices": {"pen": 2}})", "d.json: devices.pen: unknown key"},
+        {R"({"devices": {"transfers_in_flight": 0}})",
+         "devices.transfers_in_flight: expected an integer 1..32"},
+        {R"({"devices": {"stall_timeout_s": 0}})", "devices.stall_timeout_s: must be in [0.1, 60]"},
+        {R"({"devices": {"object_from_3d_mouse": {"dead_zone": 1}}})",
+         "devices.object_from_3d_mouse.dead_zone: must be in [0, 1)"},
+        {R"({"devices": {"tracker": {"pen_station": 0}}})",
+         "devices.tracker.pen_station: expected a station"},
+        {R"({"devices": {"tracker": {"always_engaged": 1}}})",
+         "devices.tracker.always_engaged: expected true"},
+        {R"({"devices": {"match": {}}})", "devices.match: expected a list"},
+        {R"({"devices": {"match": [{"driver": "polhemus", "vendor": 1, "products": [2]}]}})",
+         "devices.match[0].name: missing"},
+        {R"({"devices": {"match": [{"name": "a", "driver": "joystick", "vendor": 1, "products": [2]}]}})",
+         "devices.match[0].driver: unknown driver 'joystick'"},
+        {R"({"devices": {"match": [{"name": "a", "driver": "rift", "access": "usb", "vendor": 1, "products": [2]}]}})",
+         "devices.match[0].access: expected \"hidraw\" or \"libusb\""},
+        {R"({"devices": {"match": [{"name": "a", "driver": "rift", "vendor": "0x1g", "products": [2]}]}})",
+         "devices.match[0].vendor: expected a USB id"},
+        {R"({"devices": {"match": [{"name": "a", "driver": "rift", "vendor": 70000, "products": [2]}]}})",
+         "devices.match[0].vendor: expected a USB id"},
+        {R"({"devices": {"match": [{"name": "a", "driver": "rift", "vendor": 1, "products": []}]}})",
+         "devices.match[0].products: expected a non-empty list"},
+        {R"({"devices": {"match": [{"name": "a", "driver": "rift", "vendor": 1, "products": [1],
+                                    "in_endpoint": 4}]}})",
+         "devices.match[0].in_endpoint: an IN endpoint address has bit 0x80 set"},
+        {R"({"devices": {"match": [{"name": "a", "driver": "rift", "vendor": 1, "products": [1], "colour": 1}]}})",
+         "devices.match[0].colour: unknown key"},
+        {R"({"devices": {"match": [{"name": "a", "driver": "rift", "vendor": 1, "products": [1]},
+                                   {"name": "a", "driver": "rift", "vendor": 2, "products": [1]}]}})",
+         "devices.match[1].name: 'a' is used twice"},
+    };
+    for (const Bad& c : cases) {
+        try {
+            parseConfig(c.json, "d.json");
+            ADD_FAILURE() << "accepted: " << c.json;
+        } catch (const ConfigError& e) {
+            EXPECT_NE(std::string(e.what()).find(c.expected), std::string::npos)
+                << "message: " << e.what() << "\nexpected to contain: " << c.expected;
+        }
+    }
 }
 
 }  // namespace

@@ -139,14 +139,10 @@ int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
         err << "vsculpt record: error: --out FILE is required\n";
         return 2;
     }
-    Session session(cfg);
-    Interaction interaction(session);
-    LiveDevices live(cfg.devices, err);
-    DeviceInput input(cfg.devices, live.rules(), interaction, session);
     std::unique_ptr<devices::RecordingWriter> writer;
     try {
         writer = std::make_unique<devices::RecordingWriter>(
-            o.outPath, live.rules(),
+            o.outPath, deviceRules(cfg.devices),
             std::map<std::string, std::string>{
                 {"config", nlohmann::json::parse(core::configToJson(cfg)).dump()},
                 {"vsculpt", "0.1.0"}});
@@ -154,6 +150,10 @@ int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
         err << "vsculpt record: error: " << e.what() << "\n";
         return 2;
     }
+    Session session(cfg);
+    Interaction interaction(session);
+    LiveDevices live(cfg.devices, err);
+    DeviceInput input(cfg.devices, live.rules(), interaction, session);
 
     gStop = false;
     auto previousInt = std::signal(SIGINT, onSignal);

@@ -104,3 +104,50 @@ TEST(Recording, ArrivalBytesCarryTheUsbIds) {
 
 }  // namespace
 }  // namespace vsculpt::devices
+
+namespace vsculpt::devices {
+namespace {
+
+// Seeded fuzz: mutated recordings either parse or throw RecordingError, never anything else.
+TEST(Recording, MutatedFilesParseOrFailCleanly) {
+    const std::string good =
+        "vsculpt-recording 1\nmeta config {}\ndevice m spacemouse hidraw 256f c635\n"
+        "device t polhemus libusb 0f44 ff20\n0 m arrived 6f2535c6\n10 m report 0101000200030004\n"
+        "20 t report 4c5901432000250000\n30 m left\n";
+    std::mt19937 rng(11);
+    const std::string alphabet = "0123456789abcdefg xyz\n#-mtreportarrivedleftdevicemeta";
+    size_t parsed = 0;
+    for (int i = 0; i < 20000; ++i) {
+        std::string text = good;
+        const int edits = 1 + int(rng() % 4);
+        for (int k = 0; k < edits; ++k) {
+            const size_t at = rng() % (text.size() + 1);
+            switch (rng() % 3) {
+                case 0:
+                    text.insert(at, 1, alphabet[rng() % alphabet.size()]);
+                    break;
+                case 1:
+                    if (at < text.size()) text.erase(at, 1);
+                    break;
+                default:
+                    if (at < text.size()) text[at] = char(rng());
+            }
+        }
+        try {
+            const Recording r = parseRecording(text, "fuzz");
+            ++parsed;
+            for (const auto& e : r.events) {
+                bool declared = false;
+                for (const auto& d : r.devices)
+                    declared |= d.name == e.device;
+                ASSERT_TRUE(declared);
+            }
+        } catch (const RecordingError& e) {
+            ASSERT_EQ(std::string(e.what()).rfind("fuzz", 0), 0u) << e.what();
+        }
+    }
+    EXPECT_GT(parsed, 0u);  // some mutations (comments, digits in times) stay valid
+}
+
+}  // namespace
+}  // namespace vsculpt::devices

@@ -332,6 +332,10 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
             if (!b.empty()) frameBox = b;
             framedZoom = session.zoom();
         }
+        // A headset with a tracked head station moves the eyes; otherwise the camera frames
+        // the sculpture.
+        viewer->setTrackedHead(devices ? devices->worldFromHead(devices::monotonicNowNs())
+                                       : std::optional<glm::dmat4>());
         const render::FrameStats st = viewer->draw(
             worldFromObject, frameBox, tool, mode, display, lens, palette,
             render::statusQuads({session.tool() == ToolKind::Add     ? 0

@@ -84,6 +84,7 @@ void main() { color = vec4(fill, 1.0); })";
 
 struct Viewer::Impl {
     detail::WindowPtr window;
+    std::optional<glm::dmat4> trackedHead;
     GLuint paletteProgram = 0;
     GLuint postProgram = 0, postVao = 0;
     GLuint eyeFbo = 0, eyeColor = 0, eyeDepth = 0;
@@ -213,8 +214,11 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
     const glm::dvec3 c =
         glm::dvec3(worldFromObject * glm::dvec4(0.5 * (frameBox.min + frameBox.max), 1));
     const glm::dvec3 half = 0.5 * (frameBox.max - frameBox.min);
-    const glm::dmat4 worldFromHead =
+    // Framing also sets the display's aspect, focal distance and clip planes; a tracked
+    // head keeps those and replaces only the pose.
+    const glm::dmat4 framedHead =
         frameFromFront(c - half, c + half, double(sbs ? w / 2 : w) / std::max(1, h), d);
+    const glm::dmat4 worldFromHead = mImpl->trackedHead.value_or(framedHead);
     if (mode == StereoMode::Mono) d.ipdMm = 0;
     const auto eyes = stereoEyes(worldFromHead, d);
     {
@@ -363,6 +367,10 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
     stats.cpuMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return stats;
+}
+
+void Viewer::setTrackedHead(const std::optional<glm::dmat4>& worldFromHead) {
+    mImpl->trackedHead = worldFromHead;
 }
 
 void Viewer::pixelToEyeNdc(double x, double y, StereoMode mode, double& nx, double& ny) const {

@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <filesystem>
 
 using namespace vsculpt;
@@ -232,6 +234,46 @@ TEST(Viewer, LensCorrectionResamplesEachEye) {
     LensCorrection ca{0.3, 0.1, 0.9, 1.1};
     const double red = halfCoverage(ca, 0), blue = halfCoverage(ca, 2);
     EXPECT_GT(red, blue * 1.05);
+}
+
+}  // namespace
+
+namespace {
+
+// A tracked head replaces the framing camera: the framing pose itself gives the same image,
+// the head turned away from the sculpture sees only background.
+TEST(Viewer, TrackedHeadReplacesTheFramingCamera) {
+    core::SculptConfig cfg;
+    cfg.sphereRadiusMm = 30;
+    cfg.polygonizer.gridN = 32;
+    core::Sculpture s(cfg);
+    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)), 0.125);
+    poly.rebuildAll();
+    Viewer viewer(320, 240, "test", false);
+    viewer.syncChunks(poly);
+    const core::Aabb box = core::meshBounds(poly.mesh());
+    ToolDraw tool;
+    tool.worldPos = core::Vec3(0, 0, 200);  // out of sight
+    auto foregroundOf = [&] {
+        viewer.draw(glm::dmat4(1.0), box, tool, StereoMode::Mono, StereoDisplay{});
+        const Image img = viewer.readFrame();
+        size_t fg = 0;
+        for (int y = 0; y < img.height; ++y)
+            for (int x = 0; x < img.width; ++x)
+                fg += foreground(img.pixel(x, y), 0);
+        return std::make_pair(fg, img.rgba);
+    };
+    const auto framed = foregroundOf();
+    EXPECT_GT(framed.first, 1000u);
+    StereoDisplay d;
+    const glm::dmat4 head = frameFromFront(box.min, box.max, 320.0 / 240.0, d);
+    viewer.setTrackedHead(head);
+    EXPECT_EQ(foregroundOf().second, framed.second);
+    // Turned 180 degrees about the vertical: looking away from the sculpture.
+    viewer.setTrackedHead(head * glm::rotate(glm::dmat4(1.0), M_PI, glm::dvec3(0, 1, 0)));
+    EXPECT_EQ(foregroundOf().first, 0u);
+    viewer.setTrackedHead(std::nullopt);
+    EXPECT_EQ(foregroundOf().second, framed.second);
 }
 
 }  // namespace

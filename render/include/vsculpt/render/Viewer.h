@@ -12,6 +12,7 @@
 #include "vsculpt/render/StereoCamera.h"
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -78,6 +79,10 @@ class Viewer {
                     const ToolDraw& tool, StereoMode mode, const StereoDisplay& display,
                     const LensCorrection& lens = {}, const std::vector<PaletteItem>& palette = {},
                     const std::vector<OverlayQuad>& overlay = {});
+    /// A tracked head (a headset): the next draws put the eyes at this worldFromHead (mm; head
+    /// frame x right, y up, looking down -z) instead of framing the sculpture from the front.
+    /// nullopt goes back to framing.
+    void setTrackedHead(const std::optional<glm::dmat4>& worldFromHead);
     /// Where a window pixel falls in an eye's NDC (the eye under it in side-by-side mode),
     /// for picking palette items.
     void pixelToEyeNdc(double x, double y, StereoMode mode, double& ndcX, double& ndcY) const;

@@ -26,7 +26,9 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         "(docs/playback.md), `vsculpt render` ray-traces a still. `vsculpt devices` lists the\n"
         "trackers, 3D mice, tablets and headsets vsculpt can use, `vsculpt record` sculpts with\n"
         "them while recording every report; `vsculpt play` replays such a recording\n"
-        "(docs/devices.md)."};
+        "(docs/devices.md).\n"
+        "The tablet sketch mode is not built yet (the sketch geometry exists as a library\n"
+        "but has no canvas or command yet)."};
     cli.set_version_flag("--version", "vsculpt 0.1.0");
     std::string configPath = core::defaultConfigPath().string();
     cli.add_option("--config", configPath, "Config file (JSON with comments; docs/config.md)")

@@ -67,6 +67,9 @@ struct DeviceInput::State {
         devices::PolhemusConfig config;
         bool stylus = false;  // the record carries the stylus switch
         int64_t lastPenNs = 0;
+        // The hand-held object station: the sculpture's pose relative to the receiver, fixed
+        // when the receiver is first seen (so grabbing does not make the sculpture jump).
+        std::optional<core::RigidTransform> stationFromObject;
     };
     struct Headset {
         devices::RiftImuStream stream;
@@ -265,6 +268,19 @@ struct DeviceInput::State {
         n.droppedBytes += t.decoder->droppedBytes() - droppedBefore;
         for (const auto& s : samples) {
             if (!s.hasPosition) continue;
+            if (cfg.objectStation != 0 && s.station == cfg.objectStation) {
+                const core::RigidTransform worldFromStation =
+                    worldFromTracker *
+                    core::RigidTransform{glm::normalize(s.orientation), s.positionMm};
+                if (!core::isUsablePoint(worldFromStation.translation)) continue;
+                if (!t.stationFromObject)
+                    t.stationFromObject = worldFromStation.inverse() * session.objectPose();
+                // Pen samples use the pose current at their time, so sculpting while turning
+                // leaves material where the tool touched.
+                session.setObjectPose(worldFromStation * *t.stationFromObject);
+                ++n.samples;
+                continue;
+            }
             if (s.station == cfg.headStation) {
                 head.addTrackerPosition(s.timeNs, s.positionMm);
                 ++n.samples;

@@ -127,12 +127,17 @@ void parseDevices(Section dev, DevicesConfig& out) {
     mouse.number("rotate_deg_per_s", out.objectRotateDegPerS);
     mouse.rejectUnknown();
     Section tracker = dev.sub("tracker");
-    for (const char* key : {"pen_station", "head_station"}) {
+    for (const char* key : {"pen_station", "head_station", "object_station"}) {
         if (const json* v = tracker.find(key)) {
-            if (!v->is_number_integer() || v->get<int>() < 1 || v->get<int>() > 16)
-                tracker.fail(std::string("devices.tracker.") + key,
-                             "expected a station number 1..16, got " + v->dump());
-            (std::string(key) == "pen_station" ? out.penStation : out.headStation) = v->get<int>();
+            const int lo = std::string(key) == "object_station" ? 0 : 1;
+            if (!v->is_number_integer() || v->get<int>() < lo || v->get<int>() > 16)
+                tracker.fail(
+                    std::string("devices.tracker.") + key,
+                    "expected a station number " + std::to_string(lo) + "..16, got " + v->dump());
+            const std::string k = key;
+            (k == "pen_station"    ? out.penStation
+             : k == "head_station" ? out.headStation
+                                   : out.objectStation) = v->get<int>();
         }
     }
     tracker.vec3("world_from_tracker_translation_mm", out.worldFromTrackerTranslationMm);
@@ -486,6 +491,7 @@ std::string configToJson(const SculptConfig& c) {
                         {"tracker",
                          {{"pen_station", c.devices.penStation},
                           {"head_station", c.devices.headStation},
+                          {"object_station", c.devices.objectStation},
                           {"world_from_tracker_translation_mm", {t.x, t.y, t.z}},
                           {"world_from_tracker_rotation_deg", {r.x, r.y, r.z}},
                           {"pen_tip_mm", {tip.x, tip.y, tip.z}},

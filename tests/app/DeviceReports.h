@@ -16,7 +16,8 @@ using Bytes = std::vector<uint8_t>;
 
 /// Liberty record with the default output list (position cm, quaternion, timestamp, frame
 /// count, space): 8-byte header + 37 bytes.
-inline Bytes libertyRecord(int station, double xCm, double yCm, double zCm, uint32_t frame) {
+inline Bytes libertyRecord(int station, double xCm, double yCm, double zCm, uint32_t frame,
+                           const float quat[4] = nullptr) {
     Bytes b{'L', 'Y', uint8_t(station), 'C', ' ', 0, 37, 0};
     auto f32 = [&](float v) {
         const uint32_t u = std::bit_cast<uint32_t>(v);
@@ -30,10 +31,9 @@ inline Bytes libertyRecord(int station, double xCm, double yCm, double zCm, uint
     f32(float(xCm));
     f32(float(yCm));
     f32(float(zCm));
-    f32(1.0f);
-    f32(0.0f);
-    f32(0.0f);
-    f32(0.0f);
+    const float identity[4] = {1, 0, 0, 0};
+    for (int k = 0; k < 4; ++k)
+        f32(quat ? quat[k] : identity[k]);
     u32(frame * 4);
     u32(frame);
     b.push_back(' ');

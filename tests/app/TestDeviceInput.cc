@@ -120,6 +120,30 @@ TEST(DeviceInput, TrackerPenSculptsAndStartsTheTracker) {
     EXPECT_EQ(input.counters().at("tracker").departures, 1u);
 }
 
+TEST(DeviceInput, HandHeldObjectStationMovesTheSculpture) {
+    core::SculptConfig cfg = config();
+    cfg.devices.objectStation = 3;
+    Session s(cfg);
+    Interaction ui(s);
+    DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, s);
+    input.handle(arrived(0, "tracker", 0x0f44, 0xff20));
+    // First sample: grabbed where it is, no jump.
+    input.handle(test::report(kMs, "tracker", test::libertyRecord(3, 10, 20, 30, 0)));
+    EXPECT_EQ(s.objectPose().translation, core::Vec3(0.0));
+    // 1 cm along x: the sculpture follows by 10 mm.
+    input.handle(test::report(2 * kMs, "tracker", test::libertyRecord(3, 11, 20, 30, 1)));
+    EXPECT_NEAR(s.objectPose().translation.x, 10.0, 1e-4);
+    EXPECT_NEAR(glm::length(s.objectPose().translation - core::Vec3(10, 0, 0)), 0.0, 1e-4);
+    // Receiver turned 90 degrees about z: the sculpture turns 90 degrees about the receiver.
+    const float quarter[4] = {float(std::sqrt(0.5)), 0, 0, float(std::sqrt(0.5))};
+    input.handle(test::report(3 * kMs, "tracker", test::libertyRecord(3, 11, 20, 30, 2, quarter)));
+    EXPECT_NEAR(glm::angle(s.objectPose().rotation), M_PI / 2, 1e-6);
+    // The sculpture's centre, 10 mm right of where it started, circles the receiver at
+    // (110, 200, 300): it was at (-100, -200, -300) relative, now at (200, -100, -300).
+    EXPECT_NEAR(glm::length(s.objectPose().translation - core::Vec3(310, 100, 0)), 0.0, 1e-3);
+    EXPECT_EQ(input.counters().at("tracker").samples, 3u);
+}
+
 TEST(DeviceInput, GarbageAndSplitRecordsAreHandled) {
     const core::SculptConfig cfg = config();
     Session s(cfg);

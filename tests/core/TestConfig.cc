@@ -178,7 +178,7 @@ TEST(Config, DevicesSection) {
         "transfers_in_flight": 2, "stall_timeout_s": 3.5, "rescan_interval_s": 0.5,
         "object_from_3d_mouse": {"full_scale": 500, "dead_zone": 0.1, "translate_mm_per_s": 50,
                                  "rotate_deg_per_s": 45},
-        "tracker": {"pen_station": 3, "head_station": 1, "pen_tip_mm": [0, 0, 120],
+        "tracker": {"pen_station": 3, "head_station": 1, "object_station": 4, "pen_tip_mm": [0, 0, 120],
                     "world_from_tracker_translation_mm": [10, 20, 30],
                     "world_from_tracker_rotation_deg": [180, 0, 90], "always_engaged": false},
         "match": [{"name": "liberty", "driver": "polhemus", "access": "libusb",
@@ -192,6 +192,7 @@ TEST(Config, DevicesSection) {
     EXPECT_EQ(c.devices.mouseFullScale, 500);
     EXPECT_EQ(c.devices.objectRotateDegPerS, 45);
     EXPECT_EQ(c.devices.penStation, 3);
+    EXPECT_EQ(c.devices.objectStation, 4);
     EXPECT_EQ(c.devices.penTipMm, Vec3(0, 0, 120));
     EXPECT_EQ(c.devices.worldFromTrackerRotationDeg, Vec3(180, 0, 90));
     EXPECT_FALSE(c.devices.penAlwaysEngaged);
@@ -222,6 +223,8 @@ TEST(Config, BadDevicesNameTheField) {
          "devices.object_from_3d_mouse.dead_zone: must be in [0, 1)"},
         {R"({"devices": {"tracker": {"pen_station": 0}}})",
          "devices.tracker.pen_station: expected a station"},
+        {R"({"devices": {"tracker": {"object_station": 17}}})",
+         "devices.tracker.object_station: expected a station number 0..16"},
         {R"({"devices": {"tracker": {"always_engaged": 1}}})",
          "devices.tracker.always_engaged: expected true"},
         {R"({"devices": {"match": {}}})", "devices.match: expected a list"},

@@ -103,6 +103,9 @@ struct DevicesConfig {
     double objectRotateDegPerS = 90.0;     ///< at full deflection
     // tracker: stations and calibration (worldFromTracker, the pen tip in the pen sensor)
     int penStation = 1, headStation = 2;
+    /// The thesis's 3D mouse built on a tracker receiver: the sculpture follows this station's
+    /// motion (hand-held, position control). 0: none (a 3Dconnexion mouse turns it instead).
+    int objectStation = 0;
     Vec3 worldFromTrackerTranslationMm{0.0};
     Vec3 worldFromTrackerRotationDeg{0.0};  ///< applied as Rz * Ry * Rx
     Vec3 penTipMm{0.0};                     ///< tip offset in the pen sensor's frame

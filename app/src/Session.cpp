@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/app/Session.h"
 
+#include "vsculpt/core/PlaceSolid.h"
 #include "vsculpt/core/PlaceStroke.h"
 
 #include <chrono>
@@ -70,6 +71,15 @@ void Session::applyJournalRecord(const JournalRecord& r) {
             rec.level = r.level;
             rec.samples = r.samples;
             applyStroke(*mSculpture, r.tool, r.level, r.samples, &rec.changes);
+            mHistory.push(std::move(rec));
+            break;
+        }
+        case JournalOp::Solid: {
+            SolidPlacement placed = replaySolid(*mSculpture, r.solidLevel, r.changes);
+            StrokeRecord rec;
+            rec.solid = true;
+            rec.level = placed.level;
+            rec.changes = std::move(placed.changes);
             mHistory.push(std::move(rec));
             break;
         }
@@ -206,6 +216,39 @@ void Session::stroke(const std::vector<Vec3>& points, bool world) {
     for (const Vec3& p : points)
         strokeSample(p, world);
     endStroke();
+}
+
+int Session::addSolid(const Mesh& solid, int level) {
+    endStroke();
+    SolidPlacement placed = placeSolid(*mSculpture, solid, level);
+    if (placed.changes.size() > kMaxJournalSolidChanges) {
+        revertChanges(*mSculpture, placed.changes);
+        throw SessionError("solid changes " + std::to_string(placed.changes.size()) +
+                           " lattice vertices at level " + std::to_string(placed.level) +
+                           ", more than one edit can hold; choose a larger level");
+    }
+    if (placed.changes.empty()) return placed.level;  // already clay everywhere: no step
+    mView->update(placed.edit.changedPoints, placed.edit.supportMm);
+    JournalRecord j;
+    j.sequence = ++mSequence;
+    j.op = JournalOp::Solid;
+    j.solidLevel = placed.level;
+    j.changes = placed.changes;
+    try {
+        journal(j);
+    } catch (...) {
+        // Not durable, so not done: no edit the project would lose on reopening.
+        mView->update(revertChanges(*mSculpture, placed.changes));
+        --mSequence;
+        throw;
+    }
+    const int used = placed.level;
+    StrokeRecord rec;
+    rec.solid = true;
+    rec.level = used;
+    rec.changes = std::move(placed.changes);
+    mHistory.push(std::move(rec));
+    return used;
 }
 
 bool Session::undo() {

@@ -105,7 +105,7 @@ void writeAllOrThrow(int fd, const std::string& data, const std::filesystem::pat
 }
 
 void encodeStroke(Writer& w, const StrokeRecord& r) {
-    w.pod(uint8_t(r.op == ToolOp::Add ? 0 : 1));
+    w.pod(uint8_t(r.solid ? 2 : r.op == ToolOp::Add ? 0 : 1));
     w.pod(uint8_t(r.level));
     w.pod(uint32_t(r.samples.size()));
     for (const Vec3& p : r.samples)
@@ -125,8 +125,9 @@ void encodeStroke(Writer& w, const StrokeRecord& r) {
 StrokeRecord decodeStroke(Reader& r) {
     StrokeRecord s;
     const uint8_t op = r.pod<uint8_t>();
-    if (op > 1) r.fail("bad tool operation");
-    s.op = op == 0 ? ToolOp::Add : ToolOp::Carve;
+    if (op > 2) r.fail("bad tool operation");
+    s.op = op == 1 ? ToolOp::Carve : ToolOp::Add;
+    s.solid = op == 2;
     s.level = r.pod<uint8_t>();
     if (s.level < 1 || s.level > kLevelCount) r.fail("bad tool level");
     const uint32_t n = r.pod<uint32_t>();
@@ -199,13 +200,21 @@ JournalContents readJournal(const std::filesystem::path& path) {
             JournalRecord rec;
             rec.sequence = r.pod<uint64_t>();
             const uint8_t op = r.pod<uint8_t>();
-            if (op < 1 || op > 3) r.fail("unknown journal operation");
+            if (op < 1 || op > 4) r.fail("unknown journal operation");
             rec.op = JournalOp(op);
-            if (rec.op == JournalOp::Stroke) {
-                const StrokeRecord s = decodeStroke(r);
+            if (rec.op == JournalOp::Stroke || rec.op == JournalOp::Solid) {
+                StrokeRecord s = decodeStroke(r);
+                if (s.solid != (rec.op == JournalOp::Solid))
+                    r.fail("stroke and solid records mixed up");
                 rec.tool = s.op;
                 rec.level = s.level;
-                rec.samples = s.samples;
+                rec.samples = std::move(s.samples);
+                if (s.solid) {
+                    rec.solidLevel = s.level;
+                    for (const SkeletonChange& c : s.changes)
+                        if (c.level != s.level) r.fail("solid change on another level");
+                    rec.changes = std::move(s.changes);
+                }
             }
             if (expected != 0 && rec.sequence != expected) r.fail("sequence number out of order");
             expected = rec.sequence + 1;
@@ -250,7 +259,17 @@ void JournalWriter::append(const JournalRecord& rec) {
         s.level = rec.level;
         s.samples = rec.samples;
         encodeStroke(payload, s);
+    } else if (rec.op == JournalOp::Solid) {
+        StrokeRecord s;
+        s.solid = true;
+        s.level = rec.solidLevel;
+        s.changes = rec.changes;
+        encodeStroke(payload, s);
     }
+    if (payload.bytes.size() > kMaxRecordBytes)
+        throw ProjectError(mPath.string() + ": record " + std::to_string(rec.sequence) +
+                           " would be " + std::to_string(payload.bytes.size()) +
+                           " bytes, more than a journal record may hold");
     Writer frame;
     frame.pod(kRecordMark);
     frame.pod(uint32_t(payload.bytes.size()));

@@ -70,6 +70,11 @@ class Session {
     void strokeSample(const core::Vec3& point, bool world);
     void endStroke();
     bool inStroke() const { return mStroke != nullptr; }
+    /// Adds a closed solid (object space, mm; PlaceSolid.h) as clay on one level's lattice:
+    /// one undo step, journaled. @param level 1..7, or 0 to choose from the solid's size.
+    /// Returns the level used. Throws std::invalid_argument for a bad mesh or level and
+    /// SessionError when the solid is too large to journal; the sculpture is unchanged then.
+    int addSolid(const core::Mesh& solid, int level = 0);
     bool undo();
     bool redo();
     /// Writes a snapshot and empties the journal (projects only; no-op otherwise).

@@ -17,8 +17,11 @@ class Sculpture;
 struct StrokeRecord {
     ToolOp op = ToolOp::Add;
     int level = 4;
-    std::vector<Vec3> samples;  ///< object-space tool centres, mm
+    std::vector<Vec3> samples;  ///< object-space tool centres, mm (empty for a solid)
     std::vector<SkeletonChange> changes;
+    /// A sketched solid (PlaceSolid.h) rather than a tool stroke: replayed from `changes`
+    /// (their after-states), since the solid's mesh is not kept.
+    bool solid = false;
 };
 
 class History {

@@ -30,14 +30,19 @@ class ProjectError : public std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-enum class JournalOp : uint8_t { Stroke = 1, Undo = 2, Redo = 3 };
+/// The most vertex changes one solid's journal record holds (records are limited to 64 MiB).
+inline constexpr size_t kMaxJournalSolidChanges = 3'000'000;
+
+enum class JournalOp : uint8_t { Stroke = 1, Undo = 2, Redo = 3, Solid = 4 };
 
 struct JournalRecord {
     uint64_t sequence = 0;  ///< 1, 2, 3, ... over the project's life
     JournalOp op = JournalOp::Stroke;
-    ToolOp tool = ToolOp::Add;  ///< strokes only
-    int level = 0;              ///< strokes only
-    std::vector<Vec3> samples;  ///< strokes only: object-space tool centres, mm
+    ToolOp tool = ToolOp::Add;            ///< strokes only
+    int level = 0;                        ///< strokes only
+    std::vector<Vec3> samples;            ///< strokes only: object-space tool centres, mm
+    int solidLevel = 0;                   ///< solids only: the lattice level
+    std::vector<SkeletonChange> changes;  ///< solids only: the vertices' after-states
 };
 
 struct JournalContents {

@@ -85,6 +85,9 @@ void main() { color = vec4(fill, 1.0); })";
 struct Viewer::Impl {
     detail::WindowPtr window;
     std::optional<glm::dmat4> trackedHead;
+    // The columns of the window the 3D view uses (sketch mode puts the canvas beside it);
+    // width 0: the whole window. Framebuffer pixels.
+    int areaX = 0, areaW = 0;
     GLuint paletteProgram = 0;
     GLuint postProgram = 0, postVao = 0;
     GLuint eyeFbo = 0, eyeColor = 0, eyeDepth = 0;
@@ -207,7 +210,9 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
                         const std::vector<OverlayQuad>& overlay) {
     const auto t0 = std::chrono::steady_clock::now();
     FrameStats stats;
-    const int w = width(), h = height();
+    const int fullW = width(), h = height();
+    const int x0 = mImpl->areaW > 0 ? std::min(mImpl->areaX, fullW - 1) : 0;
+    const int w = mImpl->areaW > 0 ? std::max(1, std::min(mImpl->areaW, fullW - x0)) : fullW;
     StereoDisplay d = displayIn;
     const bool sbs = mode == StereoMode::SideBySide;
     // The camera frames the box (in world space after the object's pose).
@@ -259,11 +264,15 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
     }
     const glm::vec3 bg(kBackground[0] / 255.f, kBackground[1] / 255.f, kBackground[2] / 255.f);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glViewport(0, 0, w, h);
+    glViewport(x0, 0, w, h);
     glEnable(GL_DEPTH_TEST);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glClearColor(bg.r, bg.g, bg.b, 1.f);
+    // Clear only the 3D view's columns: the rest of the window belongs to others.
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(x0, 0, w, h);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glDisable(GL_SCISSOR_TEST);
     const glm::mat4 object(worldFromObject);
     for (int e = 0; e < (mode == StereoMode::Mono ? 1 : 2); ++e) {
         const EyeView& eye = eyes[size_t(e)];
@@ -273,7 +282,7 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
             glEnable(GL_DEPTH_TEST);
             glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         } else if (sbs) {
-            glViewport(e == 0 ? 0 : w / 2, 0, w / 2, h);
+            glViewport(x0 + (e == 0 ? 0 : w / 2), 0, w / 2, h);
         }
         if (mode == StereoMode::Anaglyph) {
             if (e == 0)
@@ -345,7 +354,7 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
         if (corrected) {
             // Resample this eye through the lens correction into its half of the window.
             glBindFramebuffer(GL_FRAMEBUFFER, 0);
-            glViewport(e == 0 ? 0 : w / 2, 0, w / 2, h);
+            glViewport(x0 + (e == 0 ? 0 : w / 2), 0, w / 2, h);
             glDisable(GL_DEPTH_TEST);
             glUseProgram(mImpl->postProgram);
             glActiveTexture(GL_TEXTURE0);
@@ -369,6 +378,22 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
     return stats;
 }
 
+void Viewer::setViewArea(int x, int width) {
+    mImpl->areaX = std::max(0, x);
+    mImpl->areaW = std::max(0, width);
+}
+
+void Viewer::windowToArea(double& x, int& w) const {
+    int ww = 0, wh = 0;
+    glfwGetWindowSize(mImpl->window.get(), &ww, &wh);
+    w = ww;
+    if (mImpl->areaW <= 0) return;
+    // Window coordinates may differ from framebuffer pixels (HiDPI): scale the area.
+    const double toWindow = double(ww) / std::max(1, width());
+    x -= mImpl->areaX * toWindow;
+    w = std::max(1, int(std::lround(mImpl->areaW * toWindow)));
+}
+
 void Viewer::setTrackedHead(const std::optional<glm::dmat4>& worldFromHead) {
     mImpl->trackedHead = worldFromHead;
 }
@@ -376,6 +401,7 @@ void Viewer::setTrackedHead(const std::optional<glm::dmat4>& worldFromHead) {
 void Viewer::pixelToEyeNdc(double x, double y, StereoMode mode, double& nx, double& ny) const {
     int w = 0, h = 0;
     glfwGetWindowSize(mImpl->window.get(), &w, &h);
+    windowToArea(x, w);
     double ex = x, ew = std::max(1, w);
     if (mode == StereoMode::SideBySide) {
         ew = std::max(1, w / 2);
@@ -418,6 +444,7 @@ Image Viewer::readFrame() {
 void Viewer::pixelRay(double x, double y, core::Vec3& origin, core::Vec3& dir) const {
     int w = 0, h = 0;
     glfwGetWindowSize(mImpl->window.get(), &w, &h);
+    windowToArea(x, w);
     const glm::dmat4 worldFromClip =
         glm::inverse(mImpl->monoEye.clipFromView * mImpl->monoEye.viewFromWorld);
     const double nx = (x + 0.5) / std::max(1, w) * 2 - 1, ny = 1 - (y + 0.5) / std::max(1, h) * 2;

@@ -277,3 +277,49 @@ TEST(Viewer, TrackedHeadReplacesTheFramingCamera) {
 }
 
 }  // namespace
+
+namespace {
+
+// Sketch mode draws the 3D view into the window's right half: nothing lands left of it, the
+// sculpture is centred in its area, and picking rays follow the area.
+TEST(Viewer, ViewAreaConfinesDrawingAndPicking) {
+    core::SculptConfig cfg;
+    cfg.sphereRadiusMm = 30;
+    cfg.polygonizer.gridN = 32;
+    core::Sculpture s(cfg);
+    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)), 0.125);
+    poly.rebuildAll();
+    Viewer viewer(400, 200, "test", false);
+    viewer.syncChunks(poly);
+    const core::Aabb box = core::meshBounds(poly.mesh());
+    ToolDraw tool;
+    tool.visible = false;
+    // A whole-window frame first (sculpture in the middle, over both halves); drawing into the
+    // right half only must leave the left half exactly as it was (no swap in between).
+    viewer.draw(glm::dmat4(1.0), box, tool, StereoMode::Mono, StereoDisplay{});
+    const Image full = viewer.readFrame();
+    EXPECT_NEAR(coverage(full, 0, 400, 0).centroidX, 200, 8);
+    EXPECT_GT(coverage(full, 0, 200, 0).fraction, 0.05);
+    viewer.setViewArea(200, 200);
+    viewer.draw(glm::dmat4(1.0), box, tool, StereoMode::Mono, StereoDisplay{});
+    const Image img = viewer.readFrame();
+    size_t same = 0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < 200; ++x)
+            same += std::equal(img.pixel(x, y), img.pixel(x, y) + 4, full.pixel(x, y));
+    EXPECT_EQ(same, size_t(200 * img.height));
+    const Coverage right = coverage(img, 200, 400, 0);
+    EXPECT_GT(right.fraction, 0.1);
+    EXPECT_NEAR(right.centroidX, 100, 8);  // centred in its area
+    // The ray through the area's centre points at the sculpture's centre.
+    core::Vec3 origin, dir;
+    viewer.pixelRay(299.5, 99.5, origin, dir);
+    const core::Vec3 c = 0.5 * (box.min + box.max);
+    const core::Vec3 toC = glm::normalize(c - origin);
+    EXPECT_GT(glm::dot(toC, dir), 0.9995);
+    viewer.setViewArea(0, 0);
+    viewer.draw(glm::dmat4(1.0), box, tool, StereoMode::Mono, StereoDisplay{});
+    EXPECT_EQ(viewer.readFrame().rgba, full.rgba);
+}
+
+}  // namespace

@@ -83,6 +83,10 @@ class Viewer {
     /// frame x right, y up, looking down -z) instead of framing the sculpture from the front.
     /// nullopt goes back to framing.
     void setTrackedHead(const std::optional<glm::dmat4>& worldFromHead);
+    /// The 3D view draws into framebuffer columns [x, x + width) only (sketch mode puts the
+    /// canvas beside it); width 0 restores the whole window. Picking (pixelRay,
+    /// pixelToEyeNdc) takes window pixels and follows the area.
+    void setViewArea(int x, int width);
     /// Where a window pixel falls in an eye's NDC (the eye under it in side-by-side mode),
     /// for picking palette items.
     void pixelToEyeNdc(double x, double y, StereoMode mode, double& ndcX, double& ndcY) const;
@@ -100,6 +104,7 @@ class Viewer {
     void pixelRay(double x, double y, core::Vec3& origin, core::Vec3& dir) const;
 
   private:
+    void windowToArea(double& x, int& w) const;
     struct Impl;
     std::unique_ptr<Impl> mImpl;
 };

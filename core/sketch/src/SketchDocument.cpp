@@ -1093,7 +1093,7 @@ std::string SketchDocument::toJson() const {
                       {"version", kVersion},
                       {"current", current_},
                       {"pages", std::move(pages)}};
-    return doc.dump(1);
+    return doc.dump();
 }
 
 SketchDocument SketchDocument::fromJson(const std::string& textIn, const SketchParams& params) {

@@ -44,10 +44,183 @@ class LineParser {
         return p;
     }
 
+    // "X,Y[,P[,T]]" with `lo`..`hi` fields.
+    std::vector<double> tuple(const std::string& w, size_t lo, size_t hi, const char* what) const {
+        std::vector<double> v;
+        size_t start = 0;
+        while (true) {
+            const size_t comma = w.find(',', start);
+            v.push_back(number(w.substr(start, comma - start), what));
+            if (comma == std::string::npos) break;
+            start = comma + 1;
+        }
+        if (v.size() < lo || v.size() > hi)
+            fail(std::string("expected ") + what + " as " +
+                 (hi == 2 ? "X,Y" : "X,Y[,PRESSURE[,TIME]]") + ", got '" + w + "'");
+        for (double x : v)
+            if (std::abs(x) > 1e6) fail(std::string(what) + " '" + w + "' lies beyond 1e6");
+        return v;
+    }
+
   private:
     const std::string& mSource;
     int mLine;
 };
+
+const char* const kRoles[] = {"none",          "outline",    "surface-x", "surface-y", "surface-z",
+                              "sweep-section", "sweep-path", "cut",       "extrude"};
+
+// Sketch commands (docs/playback.md). Returns false for a word that is not one.
+bool parseSketch(const std::vector<std::string>& w, const LineParser& p, ScriptCommand& c) {
+    using V = SketchCommand::Verb;
+    SketchCommand& s = c.sketch;
+    const std::string& cmd = w[0];
+    const size_t n = w.size() - 1;
+    auto arity = [&](size_t lo, size_t hi, const char* usage) {
+        if (n < lo || n > hi)
+            p.fail("'" + cmd + "' takes " + usage + " (got " + std::to_string(n) + " argument(s))");
+    };
+    auto numbersFrom = [&](size_t at, const char* what) {
+        for (size_t i = at; i < w.size(); ++i)
+            s.numbers.push_back(p.number(w[i], what));
+    };
+    if (cmd == "page") {
+        arity(1, 2, "NAME [GROUP]");
+        s.verb = V::Page;
+        s.name = w[1];
+        if (n == 2) s.group = w[2];
+    } else if (cmd == "mode") {
+        arity(1, 1, "draft or cleanup");
+        s.verb = V::Mode;
+        if (w[1] != "draft" && w[1] != "cleanup")
+            p.fail("unknown sketch mode '" + w[1] + "' (use draft or cleanup)");
+        s.flag = w[1] == "cleanup";
+    } else if (cmd == "kind") {
+        arity(1, 1, "line or curve");
+        s.verb = V::Kind;
+        if (w[1] != "line" && w[1] != "curve")
+            p.fail("unknown stroke kind '" + w[1] + "' (use line or curve)");
+        s.flag = w[1] == "line";
+    } else if (cmd == "pen") {
+        if (n < 1) arity(1, 1u << 30, "samples X,Y[,PRESSURE[,TIME]] ...");
+        s.verb = V::Pen;
+        for (size_t i = 1; i < w.size(); ++i) {
+            const std::vector<double> v = p.tuple(w[i], 2, 4, "a pen sample");
+            PenPoint q{v[0], v[1], std::nullopt, std::nullopt};
+            if (v.size() > 2) {
+                if (v[2] < 0 || v[2] > 1) p.fail("pen pressure '" + w[i] + "' outside 0..1");
+                q.pressure = v[2];
+            }
+            if (v.size() > 3) q.time = v[3];
+            if (!s.pen.empty() && q.pressure.has_value() != s.pen[0].pressure.has_value())
+                p.fail("pen sample '" + w[i] +
+                       "': give a pressure for every sample of a stroke or for none");
+            if (!s.pen.empty() && q.time.has_value() != s.pen[0].time.has_value())
+                p.fail("pen sample '" + w[i] +
+                       "': give a time for every sample of a stroke or for none");
+            if (q.time && !s.pen.empty() && *q.time < *s.pen.back().time)
+                p.fail("pen sample '" + w[i] + "': time goes backwards");
+            s.pen.push_back(q);
+        }
+    } else if (cmd == "endgroup") {
+        arity(0, 0, "no arguments");
+        s.verb = V::EndGroup;
+    } else if (cmd == "tick") {
+        arity(1, 1, "a time T in seconds");
+        s.verb = V::Tick;
+        numbersFrom(1, "the time");
+    } else if (cmd == "canvas") {
+        if (n < 1) p.fail("'canvas' takes zoom F X Y, pan DX DY or reset");
+        if (w[1] == "zoom") {
+            arity(4, 4, "zoom F X Y");
+            s.verb = V::CanvasZoom;
+            numbersFrom(2, "canvas zoom");
+            if (!(s.numbers[0] > 0)) p.fail("canvas zoom factor must be positive");
+        } else if (w[1] == "pan") {
+            arity(3, 3, "pan DX DY");
+            s.verb = V::CanvasPan;
+            numbersFrom(2, "canvas pan");
+        } else if (w[1] == "reset") {
+            arity(1, 1, "reset");
+            s.verb = V::CanvasReset;
+        } else {
+            p.fail("unknown canvas operation '" + w[1] + "' (use zoom, pan or reset)");
+        }
+    } else if (cmd == "select") {
+        if (n < 1) p.fail("'select' takes IDs, none, lasso X,Y X,Y X,Y ... or near X Y TOL");
+        if (w[1] == "lasso") {
+            if (n < 4) p.fail("'select lasso' takes at least three points X,Y");
+            s.verb = V::SelectLasso;
+            for (size_t i = 2; i < w.size(); ++i)
+                for (double v : p.tuple(w[i], 2, 2, "a lasso point"))
+                    s.numbers.push_back(v);
+        } else if (w[1] == "near") {
+            arity(4, 4, "near X Y TOL");
+            s.verb = V::SelectNear;
+            numbersFrom(2, "select near");
+            if (!(s.numbers[2] > 0)) p.fail("select near: tolerance must be positive");
+        } else {
+            s.verb = V::Select;
+            if (!(n == 1 && w[1] == "none"))
+                for (size_t i = 1; i < w.size(); ++i)
+                    s.ids.push_back(p.integer(w[i], "a stroke id"));
+        }
+    } else if (cmd == "move") {
+        arity(2, 2, "DX DY");
+        s.verb = V::Move;
+        numbersFrom(1, "the move");
+    } else if (cmd == "scale") {
+        arity(1, 1, "a factor F");
+        s.verb = V::Scale;
+        numbersFrom(1, "the scale factor");
+        if (!(s.numbers[0] > 0)) p.fail("scale factor must be positive");
+    } else if (cmd == "delete") {
+        arity(0, 0, "no arguments");
+        s.verb = V::Delete;
+    } else if (cmd == "role") {
+        arity(2, 3, "ROLE stroke ID, ROLE curve ID or ROLE last");
+        s.verb = V::Role;
+        bool known = false;
+        for (const char* r : kRoles)
+            known |= w[1] == r;
+        if (!known)
+            p.fail("unknown role '" + w[1] +
+                   "' (use outline, surface-x, surface-y, surface-z, sweep-section, sweep-path, "
+                   "cut, extrude or none)");
+        s.name = w[1];
+        if (w[2] == "last") {
+            arity(2, 2, "ROLE last");
+            s.target = SketchCommand::Target::Last;
+        } else if (w[2] == "stroke" || w[2] == "curve") {
+            arity(3, 3, "ROLE stroke ID or ROLE curve ID");
+            s.target =
+                w[2] == "stroke" ? SketchCommand::Target::Stroke : SketchCommand::Target::Curve;
+            s.ids.push_back(p.integer(w[3], "the id"));
+        } else {
+            p.fail("role target '" + w[2] + "' (use stroke ID, curve ID or last)");
+        }
+    } else if (cmd == "reuse") {
+        arity(1, 1, "a stroke id");
+        s.verb = V::Reuse;
+        s.ids.push_back(p.integer(w[1], "the stroke id"));
+    } else if (cmd == "solid") {
+        if (n != 1 && n != 3) arity(1, 1, "inflate|three-section|sweep|cut|extrude [level K]");
+        s.verb = V::Solid;
+        s.name = w[1];
+        if (s.name != "inflate" && s.name != "three-section" && s.name != "sweep" &&
+            s.name != "cut" && s.name != "extrude")
+            p.fail("unknown solid construction '" + s.name +
+                   "' (use inflate, three-section, sweep, cut or extrude)");
+        if (n == 3) {
+            if (w[2] != "level") p.fail("expected 'level K' after the construction");
+            s.level = p.integer(w[3], "the level");
+            if (s.level < 1 || s.level > 7) p.fail("solid level " + w[3] + " outside 1..7");
+        }
+    } else {
+        return false;
+    }
+    return true;
+}
 
 }  // namespace
 
@@ -124,6 +297,8 @@ Script parseScript(std::string_view text, const std::string& source) {
                        std::to_string(w.size() - 1) + " number(s), not a multiple of 3)");
             for (size_t i = 1; i < w.size(); i += 3)
                 c.points.push_back(p.point(w, i, "a stroke point"));
+        } else if (parseSketch(w, p, c)) {
+            c.kind = ScriptCommand::Kind::Sketch;
         } else if (cmd == "undo" || cmd == "redo" || cmd == "save") {
             arity(0, 0, "no arguments");
             c.kind = cmd == "undo"   ? ScriptCommand::Kind::Undo
@@ -131,7 +306,9 @@ Script parseScript(std::string_view text, const std::string& source) {
                                      : ScriptCommand::Kind::Save;
         } else {
             p.fail("unknown command '" + cmd +
-                   "' (commands: tool, size, zoom, object, space, stroke, undo, redo, save)");
+                   "' (commands: tool, size, zoom, object, space, stroke, undo, redo, save; "
+                   "sketch: page, mode, kind, pen, endgroup, tick, canvas, select, move, scale, "
+                   "delete, role, reuse, solid)");
         }
         script.commands.push_back(std::move(c));
     };

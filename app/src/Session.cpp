@@ -218,9 +218,29 @@ void Session::stroke(const std::vector<Vec3>& points, bool world) {
     endStroke();
 }
 
-int Session::addSolid(const Mesh& solid, int level) {
+int Session::addSolid(const Mesh& solid, int level, bool replaceLast) {
     endStroke();
-    SolidPlacement placed = placeSolid(*mSculpture, solid, level);
+    // Replacing: first take the previous solid's clay away (its changes backwards), then
+    // place the new one on what is left; both go into the one step.
+    std::vector<SkeletonChange> takeAway;
+    Aabb takenBox;
+    if (replaceLast) {
+        if (!mHistory.canUndo() || !mHistory.done().back().solid)
+            throw SessionError("no solid to replace: the last step is not a solid");
+        const std::vector<SkeletonChange>& last = mHistory.done().back().changes;
+        for (auto it = last.rbegin(); it != last.rend(); ++it)
+            takeAway.push_back(SkeletonChange{it->level, it->coord, it->after, it->before});
+        takenBox = reapplyChanges(*mSculpture, takeAway);
+    }
+    SolidPlacement placed;
+    try {
+        placed = placeSolid(*mSculpture, solid, level);
+    } catch (...) {
+        revertChanges(*mSculpture, takeAway);
+        throw;
+    }
+    if (!takeAway.empty())
+        placed.changes.insert(placed.changes.begin(), takeAway.begin(), takeAway.end());
     if (placed.changes.size() > kMaxJournalSolidChanges) {
         revertChanges(*mSculpture, placed.changes);
         throw SessionError("solid changes " + std::to_string(placed.changes.size()) +
@@ -228,6 +248,7 @@ int Session::addSolid(const Mesh& solid, int level) {
                            ", more than one edit can hold; choose a larger level");
     }
     if (placed.changes.empty()) return placed.level;  // already clay everywhere: no step
+    if (!takenBox.empty()) mView->update(takenBox);
     mView->update(placed.edit.changedPoints, placed.edit.supportMm);
     JournalRecord j;
     j.sequence = ++mSequence;

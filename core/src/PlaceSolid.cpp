@@ -372,10 +372,8 @@ SolidPlacement replaySolid(Sculpture& sculpture, int level,
                            std::span<const SkeletonChange> afterStates) {
     checkedLevel(level, false);
     for (const SkeletonChange& c : afterStates) {
-        if (c.level != level)
-            throw std::invalid_argument("solid replay: a change on level " +
-                                        std::to_string(c.level) + " in a level " +
-                                        std::to_string(level) + " solid");
+        // A replacing solid also takes the previous solid's clay away, on its level.
+        checkedLevel(c.level, false);
         for (int32_t v : {c.coord.x, c.coord.y, c.coord.z})
             if (v < -kMaxCoord || v > kMaxCoord)
                 throw std::invalid_argument("solid replay: lattice coordinate " +
@@ -386,19 +384,24 @@ SolidPlacement replaySolid(Sculpture& sculpture, int level,
     result.level = level;
     Aabb changed;
     for (const SkeletonChange& c : afterStates) {
-        SkeletonChange applied{level, c.coord, sculpture.store().get(level, c.coord), c.after};
+        SkeletonChange applied{c.level, c.coord, sculpture.store().get(c.level, c.coord), c.after};
         if (c.after)
-            sculpture.store().set(level, c.coord, *c.after);
+            sculpture.store().set(c.level, c.coord, *c.after);
         else
-            sculpture.store().erase(level, c.coord);
-        const Vec3 pos = Vec3(c.coord.x, c.coord.y, c.coord.z) * tl.spacingMm;
+            sculpture.store().erase(c.level, c.coord);
+        const double h = sculpture.levels().level(c.level).spacingMm;
+        const Vec3 pos = Vec3(c.coord.x, c.coord.y, c.coord.z) * h;
         changed.expand(pos);
         result.edit.changedPoints.push_back(pos);
         result.changes.push_back(applied);
     }
     result.edit.changedVertices = int(result.changes.size());
-    result.edit.changedRegion = changed.padded(tl.supportMm);
-    result.edit.supportMm = tl.supportMm;
+    // Changes may sit on several levels: pad by the largest support among them.
+    double support = tl.supportMm;
+    for (const SkeletonChange& c : afterStates)
+        support = std::max(support, sculpture.levels().level(c.level).supportMm);
+    result.edit.changedRegion = changed.padded(support);
+    result.edit.supportMm = support;
     return result;
 }
 

@@ -212,7 +212,7 @@ JournalContents readJournal(const std::filesystem::path& path) {
                 if (s.solid) {
                     rec.solidLevel = s.level;
                     for (const SkeletonChange& c : s.changes)
-                        if (c.level != s.level) r.fail("solid change on another level");
+                        if (c.level < 1 || c.level > kLevelCount) r.fail("bad solid level");
                     rec.changes = std::move(s.changes);
                 }
             }

@@ -9,6 +9,7 @@
 #include "vsculpt/core/Geometry.h"
 
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -24,8 +25,48 @@ class ScriptError : public std::runtime_error {
 
 enum class ToolKind { Add, Carve, Select };
 
+/// One pen sample of a scripted sketch stroke (docs/playback.md, "Sketch commands"): view mm
+/// on the tablet, optional pressure 0..1 and time in seconds.
+struct PenPoint {
+    double x = 0, y = 0;
+    std::optional<double> pressure, time;
+};
+
+/// A sketch-mode command (docs/playback.md). Syntax is checked when parsing; whether it
+/// applies (an unknown stroke id, a missing role) when it runs.
+struct SketchCommand {
+    enum class Verb {
+        Page,         ///< page NAME [GROUP]: select the page of that name, or add it
+        Mode,         ///< mode draft|cleanup
+        Kind,         ///< kind line|curve
+        Pen,          ///< pen X,Y[,P[,T]] ...: one stroke
+        EndGroup,     ///< endgroup
+        Tick,         ///< tick T: the clock (the clean-up pause trigger)
+        CanvasZoom,   ///< canvas zoom F X Y
+        CanvasPan,    ///< canvas pan DX DY
+        CanvasReset,  ///< canvas reset
+        Select,       ///< select ID ... | select none
+        SelectLasso,  ///< select lasso X,Y X,Y X,Y ...
+        SelectNear,   ///< select near X Y TOL
+        Move,         ///< move DX DY
+        Scale,        ///< scale F
+        Delete,       ///< delete
+        Role,         ///< role ROLE stroke ID | curve ID | last
+        Reuse,        ///< reuse ID
+        Solid,        ///< solid inflate|three-section|sweep|cut|extrude [level K]
+    };
+    Verb verb = Verb::EndGroup;
+    std::string name, group;  ///< page name and group; role name; solid construction
+    bool flag = false;        ///< mode cleanup; kind line
+    std::vector<PenPoint> pen;
+    std::vector<double> numbers;  ///< zoom F X Y, pan, near X Y TOL, move, scale, tick, lasso
+    std::vector<int> ids;         ///< select, role target, reuse
+    enum class Target { Stroke, Curve, Last } target = Target::Last;
+    int level = 0;  ///< solid level, 0: chosen from the solid's size
+};
+
 struct ScriptCommand {
-    enum class Kind { Tool, Size, Zoom, Object, Space, Stroke, Undo, Redo, Save };
+    enum class Kind { Tool, Size, Zoom, Object, Space, Stroke, Undo, Redo, Save, Sketch };
     Kind kind = Kind::Undo;
     int line = 0;  ///< where the command starts
     ToolKind tool = ToolKind::Add;
@@ -35,6 +76,7 @@ struct ScriptCommand {
     core::RigidTransform pose;       ///< object
     bool world = false;              ///< space
     std::vector<core::Vec3> points;  ///< stroke
+    SketchCommand sketch;            ///< sketch commands
 };
 
 struct Script {

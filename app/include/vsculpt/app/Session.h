@@ -74,7 +74,10 @@ class Session {
     /// one undo step, journaled. @param level 1..7, or 0 to choose from the solid's size.
     /// Returns the level used. Throws std::invalid_argument for a bad mesh or level and
     /// SessionError when the solid is too large to journal; the sculpture is unchanged then.
-    int addSolid(const core::Mesh& solid, int level = 0);
+    /// @param replaceLast the last step is a solid (else SessionError): this step takes its
+    /// clay away and adds the new solid, so undoing it brings the previous solid back
+    /// (regenerating a solid after its sketch was edited).
+    int addSolid(const core::Mesh& solid, int level = 0, bool replaceLast = false);
     bool undo();
     bool redo();
     /// Writes a snapshot and empties the journal (projects only; no-op otherwise).
@@ -90,6 +93,8 @@ class Session {
     /// Wall time of each tool sample (placement + mesh update), ms.
     const std::vector<double>& sampleMs() const { return mSampleMs; }
     const std::string& recoveryWarning() const { return mRecoveryWarning; }
+    /// The project folder, when the session has one.
+    const std::optional<std::filesystem::path>& projectDir() const { return mProjectDir; }
     size_t recoveredEdits() const { return mRecovered; }
     /// Edits (strokes, undos, redos) recorded in the project over its life: the sequence
     /// number of the last one. 0 without a project.

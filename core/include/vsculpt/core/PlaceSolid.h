@@ -64,9 +64,10 @@ struct SolidPlacement {
 SolidPlacement placeSolid(Sculpture& sculpture, const Mesh& solid, int level = 0);
 
 /// Journal replay: sets each vertex to its recorded `after` state (the `before` states are
-/// ignored) and returns the changes with the sculpture's present states as `before`.
-/// Throws std::invalid_argument (nothing changed) for a level outside 1..7 or a coordinate
-/// beyond the lattice range.
+/// ignored) and returns the changes with the sculpture's present states as `before`. Changes
+/// may lie on other levels than `level` (a solid replacing another takes that one's clay
+/// away). Throws std::invalid_argument (nothing changed) for a level outside 1..7 or a
+/// coordinate beyond the lattice range.
 SolidPlacement replaySolid(Sculpture& sculpture, int level,
                            std::span<const SkeletonChange> afterStates);
 

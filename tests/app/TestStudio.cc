@@ -1,0 +1,271 @@
+// SPDX-License-Identifier: MIT
+// Scripted sketch sessions (issue #8): pen samples in playback scripts become strokes, clean
+// curves and solids in the sculpture; one undo timeline across sketch and sculpt steps.
+#include "vsculpt/app/Studio.h"
+
+#include "vsculpt/core/EvalField.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <sstream>
+
+using namespace vsculpt;
+using namespace vsculpt::app;
+using core::Vec3;
+
+namespace {
+
+core::SculptConfig smallConfig() {
+    core::SculptConfig cfg;
+    cfg.sphereRadiusMm = 20;
+    cfg.polygonizer.gridN = 64;
+    return cfg;
+}
+
+struct TempDir {
+    std::filesystem::path path;
+    TempDir() {
+        path = std::filesystem::temp_directory_path() /
+               ("vsculpt-studio-" + std::to_string(::getpid()) + "-" +
+                std::to_string(std::random_device{}()));
+        std::filesystem::create_directories(path);
+    }
+    ~TempDir() { std::filesystem::remove_all(path); }
+};
+
+// A pen stroke along a circle (view mm), `turns` times round, with a slight wobble so
+// overdrawn strokes differ like a hand's.
+std::string circlePen(double cx, double cy, double r, double turns, double wobble, int n = 72) {
+    std::ostringstream s;
+    s << "pen";
+    for (int i = 0; i <= n; ++i) {
+        const double t = 2 * M_PI * turns * i / n;
+        const double rr = r + wobble * std::sin(5 * t);
+        s << " " << cx + rr * std::cos(t) << "," << cy + rr * std::sin(t) << ",0.6";
+    }
+    return s.str() + "\n";
+}
+
+std::string linePen(double x0, double y0, double x1, double y1, int n = 20) {
+    std::ostringstream s;
+    s << "pen";
+    for (int i = 0; i <= n; ++i)
+        s << " " << x0 + (x1 - x0) * i / n << "," << y0 + (y1 - y0) * i / n;
+    return s.str() + "\n";
+}
+
+void run(Studio& studio, const std::string& text, const char* name = "test.vsc") {
+    for (const ScriptCommand& c : parseScript(text, name).commands)
+        studio.apply(c);
+}
+
+struct State {
+    uint64_t mesh = 0, sketch = 0;
+    size_t page = 0;
+    bool operator==(const State&) const = default;
+};
+State state(Studio& s) {
+    State st;
+    st.mesh = core::canonicalMeshHash(s.session().view().mesh());
+    st.page = s.document().currentIndex();
+    // Every page's content, so an undo on the wrong page is caught (adding a page is not a
+    // step, so empty pages do not count).
+    for (size_t i = 0; i < s.document().pageCount(); ++i) {
+        const sketch::PageContent c = s.document().page(i).content();
+        if (!(c == sketch::PageContent{}))
+            st.sketch = (st.sketch * 1099511628211ull) ^ (sketch::contentHash(c) + i);
+    }
+    return st;
+}
+
+// An outline away from the initial sphere (radius 20), drawn in clean-up mode on the front
+// view (canvas (x, y) -> object (x, z)): a loose loop that overshoots its start a little.
+const std::string kOutline = "page Body Figures\nmode cleanup\nkind curve\n" +
+                             circlePen(60, 0, 18, 1.04, 0.3) + "endgroup\nrole outline last\n";
+
+TEST(Studio, ScriptedOutlineInflatesIntoTheSculpture) {
+    Session session(smallConfig());
+    Studio studio(session);
+    run(studio, kOutline + "solid inflate\n");
+    const sketch::SketchPage& page = studio.page();
+    ASSERT_EQ(page.cleanCurves().size(), 1u);
+    EXPECT_TRUE(page.cleanCurves()[0].closed);
+    ASSERT_TRUE(studio.lastSolid());
+    ASSERT_EQ(session.history().done().size(), 1u);
+    EXPECT_TRUE(session.history().done()[0].solid);
+    EXPECT_EQ(session.verifyMesh(), "");
+    const core::Mesh whole = session.wholeMesh();
+    const core::MeshTopology topo = core::analyzeTopology(whole);
+    EXPECT_TRUE(topo.watertight());
+    EXPECT_EQ(topo.components, 2u);  // the sphere and the separate blob
+    // Silhouette against the outline: the blob's x and z extent is the circle's (within a
+    // lattice spacing), and it is symmetric about the canvas plane y = 0.
+    const int level = session.history().done()[0].level;
+    const double h = session.sculpture().levels().level(level).spacingMm;
+    core::Aabb blob;
+    for (const Vec3& p : whole.positions)
+        if (p.x > 30) blob.expand(p);
+    EXPECT_NEAR(blob.min.x, 42, h);
+    EXPECT_NEAR(blob.max.x, 78, h);
+    EXPECT_NEAR(blob.min.z, -18, h);
+    EXPECT_NEAR(blob.max.z, 18, h);
+    EXPECT_NEAR(blob.min.y, -blob.max.y, 0.5 * h);
+    EXPECT_GT(blob.max.y, 5);
+    // The field is mirror-symmetric about y = 0 up to the signed distance's float rounding.
+    core::FieldProbe probe(session.sculpture());
+    for (double x = 45; x <= 75; x += 5)
+        for (double y = 1; y <= 15; y += 3.5)
+            for (double z = -15; z <= 15; z += 5)
+                EXPECT_NEAR(probe.value(Vec3(x, y, z)), probe.value(Vec3(x, -y, z)), 1e-4);
+}
+
+TEST(Studio, UndoAndRedoCrossSketchAndSculptStepsExactly) {
+    Session session(smallConfig());
+    Studio studio(session);
+    std::vector<State> states{state(studio)};
+    const std::vector<std::string> steps = {
+        "page Body Figures\n" + circlePen(60, 0, 18, 1.0, 0.3),  // sketch: draft stroke
+        "tool add\nsize 5\nstroke 0 0 22 5 0 24\n",              // sculpt
+        "role outline stroke 0\n",                               // sketch: role
+        "solid inflate\n",                                       // sculpt: the solid
+        linePen(40, -30, 80, -30),                               // sketch: draft line
+        "select 1\nmove 0 -5\n",                                 // sketch: move
+        "tool carve\nsize 5\nstroke 60 -20 0 60 20 0\n",         // sculpt: carve the blob
+        "page Second\n" + linePen(0, 0, 10, 10),                 // sketch on another page
+    };
+    for (const std::string& step : steps) {
+        run(studio, step);
+        states.push_back(state(studio));
+        ASSERT_NE(states.back(), states[states.size() - 2]) << step;
+    }
+    EXPECT_EQ(studio.stepCount(), steps.size());
+    for (size_t i = states.size() - 1; i > 0; --i) {
+        const size_t before = studio.stepCount();
+        studio.undo();
+        ASSERT_EQ(studio.stepCount(), before - 1);
+        State now = state(studio);
+        now.page = states[i - 1].page;  // undo shows the page it acted on, not the old one
+        EXPECT_EQ(now.mesh, states[i - 1].mesh) << "after undoing step " << i;
+        EXPECT_EQ(now.sketch, states[i - 1].sketch) << "after undoing step " << i;
+        EXPECT_EQ(session.verifyMesh(), "");
+    }
+    EXPECT_FALSE(studio.undo());
+    for (size_t i = 1; i < states.size(); ++i) {
+        studio.redo();
+        const State now = state(studio);
+        EXPECT_EQ(now.mesh, states[i].mesh) << "after redoing step " << i;
+        EXPECT_EQ(now.sketch, states[i].sketch) << "after redoing step " << i;
+    }
+    EXPECT_FALSE(studio.redo());
+    // A new step clears what could be redone.
+    studio.undo();
+    run(studio, linePen(5, 5, 9, 9));
+    EXPECT_FALSE(studio.redo());
+}
+
+TEST(Studio, RegeneratingAfterEditingTheOutlineReplacesTheSolid) {
+    Session session(smallConfig());
+    Studio studio(session);
+    // A draft outline (a raw stroke that closes on itself), inflated; then the stroke is
+    // scaled down and the solid rebuilt.
+    run(studio, circlePen(60, 0, 18, 1.0, 0.3) + "role outline stroke 0\nsolid inflate\n");
+    const uint64_t first = core::canonicalMeshHash(session.view().mesh());
+    const double volumeFirst = core::meshVolume(session.wholeMesh());
+    run(studio, "select 0\nscale 0.7\nsolid inflate\n");
+    const double volumeSecond = core::meshVolume(session.wholeMesh());
+    EXPECT_LT(volumeSecond, volumeFirst);  // replaced by the smaller one, not added to it
+    EXPECT_TRUE(core::analyzeTopology(session.wholeMesh()).watertight());
+    EXPECT_EQ(session.verifyMesh(), "");
+    EXPECT_EQ(session.history().done().size(), 2u);
+    // Undo the rebuild: the first solid is back exactly; then the scaling, then the solid.
+    studio.undo();
+    EXPECT_EQ(core::canonicalMeshHash(session.view().mesh()), first);
+    EXPECT_EQ(core::meshVolume(session.wholeMesh()), volumeFirst);
+    studio.undo();
+    EXPECT_EQ(studio.page().selection().size(), 1u);
+    studio.undo();
+    EXPECT_EQ(session.history().done().size(), 0u);
+}
+
+TEST(Studio, SweepFromASideSectionAndATopPath) {
+    Session session(smallConfig());
+    Studio studio(session);
+    // Section on the side view (canvas x -> object y, y -> z) around z = 40; path on the top
+    // view along x, away from the sphere.
+    run(studio, "page side-view\n" + circlePen(0, 40, 6, 1.0, 0.0) +
+                    "role sweep-section last\npage top-view\n" + linePen(-30, 0, 30, 0) +
+                    "role sweep-path last\nsolid sweep\n");
+    ASSERT_EQ(session.history().done().size(), 1u);
+    EXPECT_EQ(studio.plane(1), SketchPlane::Side);
+    EXPECT_EQ(studio.plane(2), SketchPlane::Top);
+    const core::Mesh whole = session.wholeMesh();
+    EXPECT_TRUE(core::analyzeTopology(whole).watertight());
+    core::Aabb bar;
+    for (const Vec3& p : whole.positions)
+        if (p.z > 30) bar.expand(p);
+    const double h =
+        session.sculpture().levels().level(session.history().done()[0].level).spacingMm;
+    EXPECT_NEAR(bar.min.x, -30, 1.5 * h);
+    EXPECT_NEAR(bar.max.x, 30, 1.5 * h);
+    EXPECT_NEAR(bar.max.z - bar.min.z, 12, 1.5 * h);
+    EXPECT_NEAR(bar.max.y - bar.min.y, 12, 1.5 * h);
+}
+
+TEST(Studio, ProjectKeepsTheSketchAndTheTimeline) {
+    TempDir dir;
+    State expected;
+    {
+        auto session = Session::openProject(dir.path, smallConfig());
+        Studio studio(*session);
+        run(studio, kOutline + "solid inflate\n" + linePen(0, 30, 20, 30));
+        expected = state(studio);
+    }  // no save: the journal and sketch.json carry everything
+    auto session = Session::openProject(dir.path, smallConfig());
+    Studio studio(*session);
+    EXPECT_EQ(state(studio), expected);
+    // Undo continues across the reopening in the original order: the line, then the solid.
+    studio.undo();
+    EXPECT_EQ(core::canonicalMeshHash(session->view().mesh()), expected.mesh);
+    studio.undo();
+    EXPECT_NE(core::canonicalMeshHash(session->view().mesh()), expected.mesh);
+    EXPECT_EQ(session->history().done().size(), 0u);
+}
+
+TEST(Studio, BadSketchCommandsNameTheLine) {
+    auto message = [](const std::string& text) {
+        try {
+            parseScript(text, "s.vsc");
+        } catch (const ScriptError& e) {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    EXPECT_EQ(message("pen 1,2\npen 1,2,3,4,5\n"),
+              "s.vsc:2: expected a pen sample as X,Y[,PRESSURE[,TIME]], got '1,2,3,4,5'");
+    EXPECT_NE(message("pen 1,2,1.5\n").find("s.vsc:1: pen pressure '1,2,1.5' outside 0..1"),
+              std::string::npos);
+    EXPECT_NE(message("pen 1,2,0.5 3,4\n").find("for every sample"), std::string::npos);
+    EXPECT_NE(message("pen 1,2,0.5,2 3,4,0.5,1\n").find("time goes backwards"), std::string::npos);
+    EXPECT_NE(message("role wing last\n").find("s.vsc:1: unknown role 'wing'"), std::string::npos);
+    EXPECT_NE(message("solid blob\n").find("unknown solid construction 'blob'"), std::string::npos);
+    EXPECT_NE(message("canvas zoom 0 1 1\n").find("must be positive"), std::string::npos);
+    EXPECT_NE(message("select lasso 1,1 2,2\n").find("at least three points"), std::string::npos);
+    // Errors that depend on the state are reported when the command runs.
+    Session session(smallConfig());
+    Studio studio(session);
+    const Script s = parseScript("role outline stroke 7\nsolid inflate\n", "s.vsc");
+    EXPECT_THROW(studio.apply(s.commands[0]), std::invalid_argument);
+    try {
+        studio.apply(s.commands[1]);
+        ADD_FAILURE() << "built a solid without an outline";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("outline"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(studio.stepCount(), 0u);
+    EXPECT_EQ(session.history().done().size(), 0u);
+}
+
+}  // namespace

@@ -23,7 +23,7 @@ packages=(
   # sketch geometry: constrained Delaunay triangulation and exact mesh booleans
   libcgal-dev libgmp-dev libmpfr-dev
   # tests and benchmarks
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev libbenchmark-dev python3-ezdxf
   clang-format
 )
 

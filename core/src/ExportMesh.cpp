@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/core/ExportMesh.h"
 
+#include "vsculpt/core/ExportDxf.h"
+
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/MeshToVolume.h>
 #include <tiny_gltf.h>
@@ -217,27 +219,6 @@ void writeGlb(const Mesh& m, const std::filesystem::path& p) {
         throw ExportError(p.string() + ": glTF writer failed");
 }
 
-void writeDxf(const Mesh& m, const std::filesystem::path& p) {
-    std::ofstream out = openOut(p, false);
-    // Minimal AutoCAD R12 DXF: an ENTITIES section of 3DFACE entities (4th corner = 3rd).
-    out << "0\nSECTION\n2\nHEADER\n9\n$INSUNITS\n70\n4\n0\nENDSEC\n";  // 4 = millimetres
-    out << "0\nSECTION\n2\nENTITIES\n";
-    for (size_t t = 0; t < m.triangleCount(); ++t) {
-        out << "0\n3DFACE\n8\nsculpture\n";
-        for (int q = 0; q < 4; ++q) {
-            const Vec3& v = m.positions[m.indices[3 * t + std::min(q, 2)]];
-            out << 10 + q << '\n'
-                << v.x << '\n'
-                << 20 + q << '\n'
-                << v.y << '\n'
-                << 30 + q << '\n'
-                << v.z << '\n';
-        }
-    }
-    out << "0\nENDSEC\n0\nEOF\n";
-    finish(out, p);
-}
-
 void writeVdb(const Mesh& m, const std::filesystem::path& p, const ExportOptions& o) {
     static std::once_flag once;
     std::call_once(once, [] { openvdb::initialize(); });
@@ -273,6 +254,16 @@ void exportMesh(const Mesh& mesh, const std::filesystem::path& path, const Expor
                           "' (use .obj, .stl, .ply, .glb, .dxf or .vdb)");
     if (mesh.triangleCount() == 0)
         throw ExportError(path.string() + ": nothing to export: the mesh is empty");
+    if (ext == ".dxf") {  // ExportDxf writes atomically itself
+        DxfOptions options;
+        options.surfaceLayer = "sculpture";
+        try {
+            writeDxf(path, std::span<const Mesh>(&mesh, 1), {}, options);
+        } catch (const std::invalid_argument& e) {
+            throw ExportError(path.string() + ": " + e.what());
+        }
+        return;
+    }
     writeAtomically(path, [&](const std::filesystem::path& tmp) {
         if (ext == ".obj")
             writeObj(mesh, tmp);
@@ -282,8 +273,6 @@ void exportMesh(const Mesh& mesh, const std::filesystem::path& path, const Expor
             writePly(mesh, tmp);
         else if (ext == ".glb")
             writeGlb(mesh, tmp);
-        else if (ext == ".dxf")
-            writeDxf(mesh, tmp);
         else
             writeVdb(mesh, tmp, o);
     });

@@ -4,6 +4,8 @@
 #include "vsculpt/app/DeviceInput.h"
 #include "vsculpt/app/Interaction.h"
 #include "vsculpt/app/Session.h"
+#include "vsculpt/app/Studio.h"
+#include "vsculpt/core/ExportDxf.h"
 #include "vsculpt/core/ExportMesh.h"
 #include "vsculpt/devices/Recording.h"
 #include "vsculpt/render/Shot.h"
@@ -73,8 +75,9 @@ class Progress {
     std::chrono::steady_clock::time_point mLast{};
 };
 
-nlohmann::json statsJson(const Session& s, const Mesh& mesh, const PlayOptions& o,
+nlohmann::json statsJson(const Studio& studio, const Mesh& mesh, const PlayOptions& o,
                          double exportSpacing) {
+    const Session& s = studio.session();
     const Sculpture& sc = s.sculpture();
     const SkeletonCounts counts = sc.counts();
     const MeshTopology topo = analyzeTopology(mesh);
@@ -99,8 +102,20 @@ nlohmann::json statsJson(const Session& s, const Mesh& mesh, const PlayOptions& 
                     {"p99", percentile(ms, 0.99)},
                     {"max", ms.empty() ? 0.0 : *std::max_element(ms.begin(), ms.end())},
                     {"samples", ms.size()}};
-    j["undo_steps"] = s.history().done().size();
-    j["redo_steps"] = s.history().undone().size();
+    j["undo_steps"] = studio.stepCount();
+    j["redo_steps"] = studio.redoCount();
+    j["sculpt_undo_steps"] = s.history().done().size();
+    size_t strokes = 0, curves = 0, solids = 0;
+    for (size_t i = 0; i < studio.document().pageCount(); ++i) {
+        strokes += studio.document().page(i).liveStrokeIds().size();
+        curves += studio.document().page(i).cleanCurves().size();
+    }
+    for (const StrokeRecord& r : s.history().done())
+        solids += r.solid;
+    j["sketch"] = {{"pages", studio.document().pageCount()},
+                   {"strokes", strokes},
+                   {"clean_curves", curves},
+                   {"solids", solids}};
     j["history_bytes"] = s.history().memoryBytes();
     j["recovered_edits"] = s.recoveredEdits();
     if (!s.recoveryWarning().empty()) j["recovery_warning"] = s.recoveryWarning();
@@ -202,6 +217,15 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
         err << "vsculpt play: recovered " << session->recoveredEdits()
             << " edit(s) from the project journal\n";
 
+    std::unique_ptr<Studio> studioPtr;
+    try {
+        studioPtr = std::make_unique<Studio>(*session);
+    } catch (const std::exception& e) {
+        err << "vsculpt play: error: " << e.what() << "\n";
+        return 2;
+    }
+    Studio& studio = *studioPtr;
+
     std::string deviceSummary;
     if (recording) {
         // Device replay: the same decoders and mapping as a live run, event by event.
@@ -234,7 +258,7 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
         size_t done = 0;
         for (const ScriptCommand& c : script.commands) {
             try {
-                const bool edited = session->apply(c);
+                const bool edited = studio.apply(c);
                 if (o.check && edited) {
                     const std::string diff = session->verifyMesh();
                     if (!diff.empty()) {
@@ -269,14 +293,23 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
         for (const std::string& path : o.outputs) {
             ExportOptions eo;
             eo.voxelSizeMm = spacing;
-            exportMesh(mesh, path, eo);
+            const std::vector<std::vector<Vec3>> curves = studio.curvesInObjectSpace();
+            if (std::filesystem::path(path).extension() == ".dxf" && !curves.empty()) {
+                // CAD gets the sketch too: the sculpture as 3DFACEs, the curves as polylines.
+                DxfOptions d;
+                d.surfaceLayer = "sculpture";
+                d.curveLayer = "sketch";
+                writeDxf(path, std::span<const Mesh>(&mesh, 1), curves, d);
+            } else {
+                exportMesh(mesh, path, eo);
+            }
         }
         if (!o.shotPath.empty()) {
             // The final frame: the mesh on show at the current zoom.
             render::writePng(render::renderShot(session->view().mesh(), shot), o.shotPath);
             out << "vsculpt play: wrote " << o.shotPath << " (" << o.stereo << ")\n";
         }
-        const nlohmann::json stats = statsJson(*session, mesh, o, spacing);
+        const nlohmann::json stats = statsJson(studio, mesh, o, spacing);
         if (o.statsPath == "-") {
             out << stats.dump(2) << "\n";
         } else if (!o.statsPath.empty()) {

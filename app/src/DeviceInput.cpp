@@ -6,6 +6,7 @@
 #include "vsculpt/devices/Polhemus.h"
 #include "vsculpt/devices/RiftImu.h"
 #include "vsculpt/devices/SpaceMouse.h"
+#include "vsculpt/devices/WacomLegacy.h"
 
 #include <glm/gtc/quaternion.hpp>
 
@@ -79,8 +80,15 @@ struct DeviceInput::State {
         uint16_t commandId = 1;
     };
 
+    struct Tablet {
+        std::optional<devices::WacomModel> model;
+        devices::WacomPenState pen;
+    };
+
     core::DevicesConfig cfg;
     std::vector<devices::DeviceRule> rules;
+    std::map<std::string, Tablet> tablets;
+    std::vector<devices::PenSample> penSamples;
     Interaction& interaction;
     Session& session;
     core::RigidTransform worldFromTracker;
@@ -157,6 +165,15 @@ struct DeviceInput::State {
                 m.mapping.deadZone = cfg.mouseDeadZone;
                 const auto model = devices::findSpaceMouseModel(vendor, product);
                 m.mapping.swapInvertYZ = model ? model->swapInvertYZ : true;
+                break;
+            }
+            case DeviceDriver::WacomLegacy: {
+                Tablet& t = tablets[r.name];
+                t = Tablet{};
+                t.model = devices::findWacomModel(vendor, product);
+                // Out of its boot mouse mode into Wacom mode (the transport retries).
+                const auto mode = devices::wacomModeSwitchReport();
+                output.push_back({r.name, {mode.begin(), mode.end()}, true});
                 break;
             }
             case DeviceDriver::RiftImu: {
@@ -370,11 +387,34 @@ void DeviceInput::handle(const DeviceEvent& e) {
         case DeviceDriver::RiftImu:
             mState->headsetReport(*r, e, n);
             break;
-        case DeviceDriver::WacomLegacy:
+        case DeviceDriver::WacomLegacy: {
+            // Pen tablets drive the sketch canvas, not the sculpting tool: samples are queued
+            // for the sketch window (takePenSamples).
+            auto it = mState->tablets.find(r->name);
+            if (it == mState->tablets.end() || !it->second.model) {
+                ++n.decodeErrors;  // no arrival seen, or a model we do not know
+                break;
+            }
+            devices::DecodeStatus status = devices::DecodeStatus::Ok;
+            const auto s = devices::decodeWacomLegacyReport(e.bytes, *it->second.model,
+                                                            it->second.pen, e.timeNs, &status);
+            if (!s) {
+                ++n.decodeErrors;
+                break;
+            }
+            ++n.samples;
+            mState->penSamples.push_back(*s);
+            break;
+        }
         case DeviceDriver::HidDigitizer:
-            // Pen tablets drive the sketch canvas (issue #8), not the sculpting tool.
+            // Needs the device's report descriptor, which the transports do not pass on yet.
+            ++n.decodeErrors;
             break;
     }
+}
+
+std::vector<devices::PenSample> DeviceInput::takePenSamples() {
+    return std::exchange(mState->penSamples, {});
 }
 
 std::vector<DeviceOutput> DeviceInput::takeOutput() {

@@ -246,3 +246,40 @@ TEST(DeviceInput, RandomEventsNeverBreakTheSession) {
 }
 
 }  // namespace
+
+namespace {
+
+// A Wacom Graphire (legacy protocol) in Wacom mode: arrival switches it out of mouse mode,
+// its pen reports are queued for the sketch canvas, byte-exact, and never touch the sculpture.
+TEST(DeviceInput, TabletPenSamplesAreQueuedForTheSketchCanvas) {
+    core::SculptConfig cfg = config();
+    cfg.devices.match.push_back({"tablet", "wacom", "hidraw", 0x056a, {0x0010}, 0, 0, 0});
+    Session s(cfg);
+    Interaction ui(s);
+    DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, s);
+    const uint64_t before = core::canonicalMeshHash(s.view().mesh());
+    input.handle(arrived(0, "tablet", 0x056a, 0x0010));
+    const std::vector<DeviceOutput> out = input.takeOutput();
+    ASSERT_EQ(out.size(), 1u);
+    EXPECT_TRUE(out[0].feature);
+    EXPECT_EQ(out[0].bytes, (std::vector<uint8_t>{2, 2}));  // feature report 2 = Wacom mode
+    // Pen in proximity, tip down, x = 5103, y = 3711 counts (80 per mm), full pressure.
+    input.handle(
+        test::report(5 * kMs, "tablet", Bytes{2, 0x80 | 0x01, 0xEF, 0x13, 0x7F, 0x0E, 0xFF, 0x01}));
+    input.handle(test::report(6 * kMs, "tablet", Bytes{2, 0, 0, 0, 0, 0, 0, 0}));  // away
+    input.handle(test::report(7 * kMs, "tablet", Bytes{1, 0, 0}));  // boot mouse report
+    const std::vector<devices::PenSample> pen = input.takePenSamples();
+    ASSERT_EQ(pen.size(), 2u);
+    EXPECT_EQ(pen[0].timeNs, 5 * kMs);
+    EXPECT_TRUE(pen[0].touching);
+    EXPECT_DOUBLE_EQ(pen[0].positionMm.x, 5103 / 80.0);
+    EXPECT_DOUBLE_EQ(pen[0].positionMm.y, 3711 / 80.0);
+    EXPECT_DOUBLE_EQ(pen[0].pressure, 1.0);
+    EXPECT_FALSE(pen[1].inProximity);
+    EXPECT_TRUE(input.takePenSamples().empty());
+    EXPECT_EQ(input.counters().at("tablet").samples, 2u);
+    EXPECT_EQ(input.counters().at("tablet").decodeErrors, 1u);
+    EXPECT_EQ(core::canonicalMeshHash(s.view().mesh()), before);
+}
+
+}  // namespace

@@ -22,6 +22,7 @@
 #include "vsculpt/core/Config.h"
 #include "vsculpt/devices/DeviceEvent.h"
 #include "vsculpt/devices/DeviceRule.h"
+#include "vsculpt/devices/PenSample.h"
 
 #include <glm/mat4x4.hpp>
 
@@ -65,6 +66,9 @@ class DeviceInput {
 
     /// What to send now; empties the list. Replays ignore it.
     std::vector<DeviceOutput> takeOutput();
+    /// Pen-tablet samples decoded since the last call, oldest first (the sketch canvas's
+    /// input; Wacom tablets in Wacom mode).
+    std::vector<devices::PenSample> takePenSamples();
 
     /// The tool tip in world space, mm, as the pen last put it.
     std::optional<core::Vec3> toolWorld() const;

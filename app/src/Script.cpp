@@ -203,6 +203,18 @@ bool parseSketch(const std::vector<std::string>& w, const LineParser& p, ScriptC
         arity(1, 1, "a stroke id");
         s.verb = V::Reuse;
         s.ids.push_back(p.integer(w[1], "the stroke id"));
+    } else if (cmd == "model-line") {
+        if (n < 3) p.fail("'model-line' takes W H X,Y [X,Y ...] (view size, then pixels)");
+        s.verb = V::ModelLine;
+        for (size_t i = 1; i <= 2; ++i) {
+            const int v = p.integer(w[i], "the model view size");
+            if (v < 16 || v > 16384) p.fail("model view size " + w[i] + " outside 16..16384");
+            s.numbers.push_back(v);
+        }
+        for (size_t i = 3; i < w.size(); ++i) {
+            const std::vector<double> v = p.tuple(w[i], 2, 2, "a model-line pixel");
+            s.pen.push_back(PenPoint{v[0], v[1], std::nullopt, std::nullopt});
+        }
     } else if (cmd == "solid") {
         if (n != 1 && n != 3) arity(1, 1, "inflate|three-section|sweep|cut|extrude [level K]");
         s.verb = V::Solid;
@@ -308,7 +320,7 @@ Script parseScript(std::string_view text, const std::string& source) {
             p.fail("unknown command '" + cmd +
                    "' (commands: tool, size, zoom, object, space, stroke, undo, redo, save; "
                    "sketch: page, mode, kind, pen, endgroup, tick, canvas, select, move, scale, "
-                   "delete, role, reuse, solid)");
+                   "delete, role, reuse, solid, model-line)");
         }
         script.commands.push_back(std::move(c));
     };

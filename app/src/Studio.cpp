@@ -3,6 +3,9 @@
 
 #include "vsculpt/app/SketchSolids.h"
 
+#include "vsculpt/render/StereoCamera.h"
+
+#include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
 #include <fcntl.h>
@@ -127,23 +130,50 @@ Studio::Studio(Session& session, const sketch::SketchParams& params)
             Step s;
             s.sketch = a[i]["sketch"].get<bool>();
             s.page = a[i].value("page", size_t(0));
+            s.surfaceLines = a[i].value("surface_lines", size_t(0));
             if (s.page >= mDocument.pageCount())
                 throw std::invalid_argument(at + ".page: no such page");
             out.push_back(s);
         }
         return out;
     };
+    auto lines = [&](const char* key) {
+        std::vector<std::vector<core::Vec3>> out;
+        const nlohmann::json a = j.value(key, nlohmann::json::array());
+        for (size_t i = 0; i < a.size(); ++i) {
+            std::vector<core::Vec3> line;
+            for (size_t k = 0; k < a[i].size(); ++k) {
+                const nlohmann::json& p = a[i][k];
+                if (!p.is_array() || p.size() != 3 || !p[0].is_number() || !p[1].is_number() ||
+                    !p[2].is_number())
+                    throw std::invalid_argument(where + key + "[" + std::to_string(i) + "][" +
+                                                std::to_string(k) + "]: expected [x, y, z]");
+                line.emplace_back(p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
+            }
+            out.push_back(std::move(line));
+        }
+        return out;
+    };
+    mSurfaceLines = lines("surface_lines");
+    mUndoneSurfaceLines = lines("redo_surface_lines");
     mDone = steps("timeline");
     mUndone = steps("redo");
+    size_t surfaceDone = 0, surfaceUndone = 0;
+    for (const Step& s : mDone)
+        surfaceDone += s.surfaceLines;
+    for (const Step& s : mUndone)
+        surfaceUndone += s.surfaceLines;
+    if (surfaceDone != mSurfaceLines.size() || surfaceUndone != mUndoneSurfaceLines.size())
+        throw std::invalid_argument(where + "surface_lines: do not match the timeline's steps");
     // The journal may hold sculpt steps the file has not seen (a crash between the two
     // writes), or fewer: reconcile by the sculpt step count, keeping the order known.
     size_t sculpt = 0;
     for (const Step& s : mDone)
-        sculpt += !s.sketch;
+        sculpt += s.sculpt();
     const size_t actual = mSession.history().done().size();
     while (sculpt > actual) {
         for (auto it = mDone.rbegin(); it != mDone.rend(); ++it)
-            if (!it->sketch) {
+            if (it->sculpt()) {
                 mDone.erase(std::next(it).base());
                 break;
             }
@@ -171,6 +201,52 @@ void Studio::setPlane(size_t pageIndex, SketchPlane plane) {
 void Studio::push(const Step& step) {
     mDone.push_back(step);
     mUndone.clear();
+    mUndoneSurfaceLines.clear();
+}
+
+size_t Studio::drawOnModel(const std::vector<glm::dvec2>& strokePx,
+                           const render::ProjectionCamera& camera) {
+    mSession.endStroke();
+    syncSculptSteps();
+    const core::Mesh mesh = mSession.view().mesh();
+    if (mesh.triangleCount() == 0 || strokePx.empty()) return 0;
+    render::StrokeProjectionOptions o;
+    // Points about a third of the finest lattice spacing on show apart: smooth at any zoom.
+    o.spacingMm = std::max(0.05, mSession.view().region().spacingMm / 3);
+    o.maxDepthJumpMm = std::max(o.spacingMm, 10 * mSession.view().region().spacingMm);
+    const auto pieces = render::projectStroke(mesh, camera, strokePx, o);
+    size_t added = 0;
+    for (const auto& piece : pieces) {
+        if (piece.size() < 2) continue;
+        std::vector<core::Vec3> line;
+        for (const render::SurfacePoint& p : piece)
+            line.push_back(p.position);
+        mSurfaceLines.push_back(std::move(line));
+        ++added;
+    }
+    if (added == 0) return 0;
+    push(Step{false, 0, added});
+    save();
+    return added;
+}
+
+render::ProjectionCamera Studio::frontCamera(glm::ivec2 viewportPx) const {
+    if (viewportPx.x <= 0 || viewportPx.y <= 0)
+        throw std::invalid_argument("model view size must be positive");
+    const core::Aabb box = core::meshBounds(mSession.view().mesh());
+    if (box.empty()) throw std::invalid_argument("nothing to draw on: the sculpture is empty");
+    const core::RigidTransform& pose = mSession.objectPose();
+    glm::dmat4 worldFromObject = glm::mat4_cast(pose.rotation);
+    worldFromObject[3] = glm::dvec4(pose.translation, 1.0);
+    // As the window frames it: the box after the object's pose, seen from the front.
+    const glm::dvec3 c = glm::dvec3(worldFromObject * glm::dvec4(0.5 * (box.min + box.max), 1));
+    const glm::dvec3 half = 0.5 * (box.max - box.min);
+    render::StereoDisplay d;
+    const glm::dmat4 head =
+        render::frameFromFront(c - half, c + half, double(viewportPx.x) / viewportPx.y, d);
+    d.ipdMm = 0;
+    return render::ProjectionCamera::fromEye(render::stereoEyes(head, d)[0], worldFromObject,
+                                             viewportPx);
 }
 
 void Studio::noteSketchStep() {
@@ -186,7 +262,7 @@ void Studio::syncSculptSteps() {
     // Fewer: undone behind the studio's back; drop that many sculpt steps from the end.
     while (mSculptSteps > n) {
         for (auto it = mDone.rbegin(); it != mDone.rend(); ++it)
-            if (!it->sketch) {
+            if (it->sculpt()) {
                 mDone.erase(std::next(it).base());
                 break;
             }
@@ -200,7 +276,12 @@ bool Studio::undo() {
     syncSculptSteps();
     if (mDone.empty()) return false;
     const Step s = mDone.back();
-    if (s.sketch) {
+    if (s.surfaceLines > 0) {
+        for (size_t i = 0; i < s.surfaceLines; ++i) {
+            mUndoneSurfaceLines.push_back(std::move(mSurfaceLines.back()));
+            mSurfaceLines.pop_back();
+        }
+    } else if (s.sketch) {
         sketch::SketchPage& p = mDocument.page(s.page);
         if (p.penIsDown()) p.cancelStroke();
         mDocument.selectPage(s.page);  // the undone stroke is on show
@@ -213,7 +294,7 @@ bool Studio::undo() {
     mUndone.push_back(s);
     if (mLastSolid && mLastSolid->timelineIndex >= mDone.size()) mLastSolid.reset();
     save();
-    return !s.sketch;
+    return s.sculpt();
 }
 
 bool Studio::redo() {
@@ -221,7 +302,12 @@ bool Studio::redo() {
     syncSculptSteps();
     if (mUndone.empty()) return false;
     const Step s = mUndone.back();
-    if (s.sketch) {
+    if (s.surfaceLines > 0) {
+        for (size_t i = 0; i < s.surfaceLines; ++i) {
+            mSurfaceLines.push_back(std::move(mUndoneSurfaceLines.back()));
+            mUndoneSurfaceLines.pop_back();
+        }
+    } else if (s.sketch) {
         mDocument.selectPage(s.page);
         if (!mDocument.page(s.page).redo())
             throw std::logic_error("sketch timeline and page log disagree");
@@ -232,7 +318,7 @@ bool Studio::redo() {
     mUndone.pop_back();
     mDone.push_back(s);
     save();
-    return !s.sketch;
+    return s.sculpt();
 }
 
 core::Vec3 Studio::toObject(size_t pageIndex, const glm::dvec2& c) const {
@@ -256,6 +342,7 @@ std::vector<std::vector<core::Vec3>> Studio::curvesInObjectSpace() const {
         for (int id : p.liveStrokeIds())
             add(p.strokePoints(id), false);
     }
+    out.insert(out.end(), mSurfaceLines.begin(), mSurfaceLines.end());
     return out;
 }
 
@@ -272,12 +359,12 @@ int Studio::buildSolid(sketch::SolidConstruction construction, int level) {
     // second solid onto it.
     bool replace = false;
     if (mLastSolid && mLastSolid->timelineIndex < mDone.size() &&
-        !mDone[mLastSolid->timelineIndex].sketch &&
+        mDone[mLastSolid->timelineIndex].sculpt() &&
         (construction == C::Cut || construction == C::Extrude ||
          construction == mLastSolid->construction)) {
         replace = true;
         for (size_t i = mLastSolid->timelineIndex + 1; i < mDone.size(); ++i)
-            if (!mDone[i].sketch) replace = false;
+            if (mDone[i].sculpt()) replace = false;
     }
     const size_t before = mSession.history().done().size();
     const int used = mSession.addSolid(toMesh(built.triangles), level, replace);
@@ -445,6 +532,13 @@ void Studio::applySketch(const ScriptCommand& c) {
         case V::Solid:
             buildSolid(constructionFromName(s.name), s.level);
             return;
+        case V::ModelLine: {
+            std::vector<glm::dvec2> px;
+            for (const PenPoint& q : s.pen)
+                px.emplace_back(q.x, q.y);
+            drawOnModel(px, frontCamera(glm::ivec2(int(n[0]), int(n[1]))));
+            return;
+        }
     }
 }
 
@@ -460,11 +554,24 @@ void Studio::save() const {
     auto steps = [](const std::vector<Step>& v) {
         nlohmann::json a = nlohmann::json::array();
         for (const Step& s : v)
-            a.push_back({{"sketch", s.sketch}, {"page", s.page}});
+            a.push_back(
+                {{"sketch", s.sketch}, {"page", s.page}, {"surface_lines", s.surfaceLines}});
         return a;
     };
     j["timeline"] = steps(mDone);
     j["redo"] = steps(mUndone);
+    auto lines = [](const std::vector<std::vector<core::Vec3>>& v) {
+        nlohmann::json a = nlohmann::json::array();
+        for (const auto& line : v) {
+            nlohmann::json l = nlohmann::json::array();
+            for (const core::Vec3& p : line)
+                l.push_back({p.x, p.y, p.z});
+            a.push_back(l);
+        }
+        return a;
+    };
+    j["surface_lines"] = lines(mSurfaceLines);
+    j["redo_surface_lines"] = lines(mUndoneSurfaceLines);
     j["document"] = nlohmann::json::parse(mDocument.toJson());
     writeAtomically(*mFile, j.dump(1) + "\n");
 }

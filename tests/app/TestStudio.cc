@@ -269,3 +269,43 @@ TEST(Studio, BadSketchCommandsNameTheLine) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Studio, DrawingOnTheModelGivesSurfaceLinesThatUndo) {
+    TempDir dir;
+    auto session = Session::openProject(dir.path, smallConfig());
+    Studio studio(*session);
+    // Across the initial sphere (radius 20) in a 400 x 300 front view, and one stroke that
+    // misses it entirely.
+    run(studio,
+        "model-line 400 300 20,150 120,150 200,151 280,150 380,150\n"
+        "model-line 400 300 5,5 40,10\n");
+    ASSERT_EQ(studio.surfaceLines().size(), 1u);
+    EXPECT_EQ(studio.stepCount(), 1u);
+    const double h = session->view().region().spacingMm;
+    const std::vector<Vec3>& line = studio.surfaceLines()[0];
+    ASSERT_GT(line.size(), 10u);
+    for (size_t i = 0; i < line.size(); ++i) {
+        // On the polygonized sphere (within its grid's chord error), on the camera's side.
+        EXPECT_NEAR(glm::length(line[i]), 20, 0.5 * h) << i;
+        EXPECT_LT(line[i].y, 0) << i;
+        if (i > 0) EXPECT_LE(glm::distance(line[i], line[i - 1]), h / 3 + 1e-9);
+    }
+    // Across the whole silhouette: from one side of the sphere to the other.
+    EXPECT_LT(line.front().x, -18);
+    EXPECT_GT(line.back().x, 18);
+    // The lines go to exports with the sketch's curves, and undo/redo take them away and back.
+    EXPECT_EQ(studio.curvesInObjectSpace().size(), 1u);
+    studio.undo();
+    EXPECT_TRUE(studio.surfaceLines().empty());
+    studio.redo();
+    ASSERT_EQ(studio.surfaceLines().size(), 1u);
+    EXPECT_EQ(studio.surfaceLines()[0], line);
+    // Kept in the project.
+    Studio reopened(*session);
+    ASSERT_EQ(reopened.surfaceLines().size(), 1u);
+    EXPECT_EQ(reopened.surfaceLines()[0], line);
+}
+
+}  // namespace

@@ -54,6 +54,7 @@ struct SketchCommand {
         Role,         ///< role ROLE stroke ID | curve ID | last
         Reuse,        ///< reuse ID
         Solid,        ///< solid inflate|three-section|sweep|cut|extrude [level K]
+        ModelLine,    ///< model-line W H X,Y ...: drawn on the model in a W x H front view
     };
     Verb verb = Verb::EndGroup;
     std::string name, group;  ///< page name and group; role name; solid construction

@@ -11,6 +11,7 @@
 
 #include "vsculpt/app/Script.h"
 #include "vsculpt/app/Session.h"
+#include "vsculpt/render/ProjectStroke.h"
 #include "vsculpt/sketch/SketchDocument.h"
 #include "vsculpt/sketch/SketchSolid.h"
 
@@ -87,8 +88,20 @@ class Studio {
     SketchPlane plane(size_t pageIndex) const;
     void setPlane(size_t pageIndex, SketchPlane plane);
 
-    /// The document's clean curves and role strokes in object space (mm), for exports
-    /// (DXF polylines). Pages without a plane use the front plane.
+    /// Drawing on the model: a stroke drawn over the 3D view (pixels of a view of
+    /// `camera.viewportPx`, origin top-left) is projected onto the sculpture's surface with
+    /// Embree; each piece on the surface becomes a surface line (one step for the stroke).
+    /// Returns the number of pieces (0: the stroke missed the sculpture; no step).
+    size_t drawOnModel(const std::vector<glm::dvec2>& strokePx,
+                       const render::ProjectionCamera& camera);
+    /// The camera of a view of `viewportPx` framing the sculpture's current mesh from the
+    /// front (the window's camera at the start), for scripts: `model-line`.
+    render::ProjectionCamera frontCamera(glm::ivec2 viewportPx) const;
+    /// Surface lines drawn on the model (object mm), oldest first.
+    const std::vector<std::vector<core::Vec3>>& surfaceLines() const { return mSurfaceLines; }
+
+    /// The document's clean curves and role strokes in object space (mm), then the surface
+    /// lines, for exports (DXF polylines). Pages without a plane use the front plane.
     std::vector<std::vector<core::Vec3>> curvesInObjectSpace() const;
 
     /// Writes `sketch.json` now (projects only; done after every sketch step anyway).
@@ -98,6 +111,8 @@ class Studio {
     struct Step {
         bool sketch = false;
         size_t page = 0;
+        size_t surfaceLines = 0;  ///< > 0: a stroke drawn on the model, that many lines
+        bool sculpt() const { return !sketch && surfaceLines == 0; }
         bool operator==(const Step&) const = default;
     };
     void noteSketchStep();
@@ -118,6 +133,7 @@ class Studio {
     };
     std::optional<BuiltSolid> mLastSolid;
     std::optional<sketch::SketchSolid> mLastBuilt;
+    std::vector<std::vector<core::Vec3>> mSurfaceLines, mUndoneSurfaceLines;
     std::optional<std::filesystem::path> mFile;
 };
 

@@ -68,6 +68,8 @@ out.append("mode draft")
 pen(arc(120, 30, 6, 6, 0, 2 * math.pi, 30), lambda s: 0.3)
 out.append("select 1")
 out.append("move 10 5")
+out.append("# Back to the plain view: the sketch window frames the page's ink.")
+out.append("canvas reset")
 path = pathlib.Path(__file__).resolve().parent.parent / "examples" / "sketch-figure.vsc"
 path.write_text("\n".join(out) + "\n")
 print(f"wrote {path}")

@@ -4,6 +4,7 @@
 #include "vsculpt/app/DeviceCommands.h"
 #include "vsculpt/app/Play.h"
 #include "vsculpt/app/RenderStill.h"
+#include "vsculpt/app/SketchWindow.h"
 #include "vsculpt/app/Summary.h"
 #include "vsculpt/app/Window.h"
 #include "vsculpt/core/Config.h"
@@ -26,9 +27,10 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         "(docs/playback.md), `vsculpt render` ray-traces a still. `vsculpt devices` lists the\n"
         "trackers, 3D mice, tablets and headsets vsculpt can use, `vsculpt record` sculpts with\n"
         "them while recording every report; `vsculpt play` replays such a recording\n"
-        "(docs/devices.md).\n"
-        "The tablet sketch mode is not built yet (the sketch geometry exists as a library\n"
-        "but has no canvas or command yet)."};
+        "(docs/devices.md). `vsculpt sketch` opens the sketch window: a pen-tablet canvas\n"
+        "beside the sculpture, sketches turned into solids in it (docs/sketch-mode.md).\n"
+        "Not built yet: the sculpting window does not show the sketch canvas in the headset,\n"
+        "and generic HID pen tablets (non-Wacom) are not read yet."};
     cli.set_version_flag("--version", "vsculpt 0.1.0");
     std::string configPath = core::defaultConfigPath().string();
     cli.add_option("--config", configPath, "Config file (JSON with comments; docs/config.md)")
@@ -96,6 +98,25 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     recordCmd->add_flag("--until-unplugged", record.untilUnplugged,
                         "Stop once every device that connected has been unplugged again");
 
+    SketchWindowOptions sketchOpts;
+    CLI::App* sketchCmd = cli.add_subcommand(
+        "sketch",
+        "Open the sketch window: a pen-tablet canvas beside the sculpture; sketches become "
+        "solids in it (docs/sketch-mode.md)");
+    sketchCmd->add_option("--project", sketchOpts.projectDir,
+                          "Project folder: opened if it exists, created otherwise; every "
+                          "sketch and sculpt step is saved as it is made");
+    sketchCmd->add_option("--play", sketchOpts.playScript,
+                          "Run a playback script (sketch commands too) in the window, a command "
+                          "per frame");
+    sketchCmd->add_option("--frames", sketchOpts.frames, "Close after N frames (0: never)")
+        ->check(CLI::NonNegativeNumber);
+    sketchCmd->add_option("--shot", sketchOpts.shotPath,
+                          "With --frames: save the last frame as PNG");
+    sketchCmd->add_flag("--hidden", sketchOpts.hidden, "Do not show the window (automated runs)");
+    sketchCmd->add_flag("!--no-devices", sketchOpts.devices,
+                        "Do not open pen tablets or other devices (mouse and keyboard only)");
+
     RenderOptions still;
     CLI::App* renderCmd = cli.add_subcommand(
         "render", "Ray-trace a still of a script's or a project's sculpture (Embree)");
@@ -129,6 +150,10 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         return runRecord(record, out, err);
     }
     if (*renderCmd) return runRenderStill(still, out, err);
+    if (*sketchCmd) {
+        sketchOpts.configPath = configPath == core::defaultConfigPath().string() ? "" : configPath;
+        return runSketchWindow(sketchOpts, out, err);
+    }
     if (!*infoCmd) {
         window.configPath = configPath == core::defaultConfigPath().string() ? "" : configPath;
         const int code = runWindow(window, out, err);

@@ -436,13 +436,15 @@ void Studio::applySketch(const ScriptCommand& c) {
             page().setKind(s.flag ? sketch::StrokeKind::Line : sketch::StrokeKind::Curve);
             return;
         case V::Pen: {
+            // Script positions are canvas mm, so a script draws the same whatever the view (the
+            // window centres its canvas); the pen goes through the view as a tablet's would.
             // Times: as given, or 10 ms apart, each stroke 0.2 s after the previous one (within
             // the clean-up pause, so scripted overdrawing forms one group until `tick`).
             std::vector<sketch::PenSample> samples;
             double t = mClock + 0.2;
             for (const PenPoint& q : s.pen) {
                 sketch::PenSample ps;
-                ps.view = glm::dvec2(q.x, q.y);
+                ps.view = page().view().viewFromCanvas(glm::dvec2(q.x, q.y));
                 ps.pressure = q.pressure;
                 ps.time = q.time.value_or(t);
                 t = ps.time + 0.01;

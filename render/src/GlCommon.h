@@ -75,10 +75,10 @@ struct GpuMesh {
                      m.indices.data(), GL_STATIC_DRAW);
         count = GLsizei(m.indices.size());
     }
-    void draw() const {
+    void draw(GLenum mode = GL_TRIANGLES) const {
         if (!count) return;
         glBindVertexArray(vao);
-        glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
+        glDrawElements(mode, count, GL_UNSIGNED_INT, nullptr);
     }
 };
 

@@ -88,6 +88,9 @@ struct Viewer::Impl {
     // The columns of the window the 3D view uses (sketch mode puts the canvas beside it);
     // width 0: the whole window. Framebuffer pixels.
     int areaX = 0, areaW = 0;
+    // Surface lines drawn on the model (object space), as GL_LINES pairs.
+    std::vector<std::vector<core::Vec3>> lines;
+    detail::GpuMesh lineMesh;
     GLuint paletteProgram = 0;
     GLuint postProgram = 0, postVao = 0;
     GLuint eyeFbo = 0, eyeColor = 0, eyeDepth = 0;
@@ -143,6 +146,7 @@ Viewer::~Viewer() {
     for (auto& [k, c] : mImpl->chunks)
         c.release();
     mImpl->sphere.release();
+    mImpl->lineMesh.release();
     glDeleteProgram(mImpl->program);
     glDeleteProgram(mImpl->postProgram);
     glDeleteProgram(mImpl->paletteProgram);
@@ -305,6 +309,19 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
                 stats.triangles += size_t(g.count / 3);
             }
         }
+        if (mImpl->lineMesh.count > 0) {
+            // Surface lines on the model, dark red; they lie exactly on its triangles, so
+            // equal depth passes.
+            glUniformMatrix4fv(mImpl->worldFromObjectLoc, 1, GL_FALSE, glm::value_ptr(object));
+            glUniform3f(mImpl->tintLoc, 0.75f, 0.12f, 0.1f);
+            // Lines and triangles rasterize depth differently: pull the lines a hair nearer so
+            // the surface they lie on does not cut them into dashes.
+            glDepthFunc(GL_LEQUAL);
+            glDepthRange(0.0, 0.9995);
+            mImpl->lineMesh.draw(GL_LINES);
+            glDepthRange(0.0, 1.0);
+            glDepthFunc(GL_LESS);
+        }
         if (tool.visible) {
             // Contact cue: green in the air, yellow touching, red inside the material.
             const glm::vec3 tint = tool.contact == 0   ? glm::vec3(0.45f, 1.0f, 0.5f)
@@ -376,6 +393,32 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
     stats.cpuMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return stats;
+}
+
+void Viewer::setSurfaceLines(const std::vector<std::vector<core::Vec3>>& lines) {
+    if (lines == mImpl->lines) return;
+    mImpl->lines = lines;
+    core::Mesh m;
+    for (const auto& line : lines) {
+        for (size_t i = 0; i < line.size(); ++i) {
+            if (i > 0) {
+                m.indices.push_back(uint32_t(m.positions.size() - 1));
+                m.indices.push_back(uint32_t(m.positions.size()));
+            }
+            m.positions.push_back(line[i]);
+            // Lit as if facing the front camera, so the line reads as a dark-red ink line.
+            m.normals.push_back(core::Vec3(0, -1, 0));
+        }
+    }
+    if (m.indices.empty()) {
+        mImpl->lineMesh.release();
+        return;
+    }
+    mImpl->lineMesh.upload(m);
+}
+
+const EyeView& Viewer::monoEye() const {
+    return mImpl->monoEye;
 }
 
 void Viewer::setViewArea(int x, int width) {

@@ -25,8 +25,8 @@ class ScriptError : public std::runtime_error {
 
 enum class ToolKind { Add, Carve, Select };
 
-/// One pen sample of a scripted sketch stroke (docs/playback.md, "Sketch commands"): view mm
-/// on the tablet, optional pressure 0..1 and time in seconds.
+/// One pen sample of a scripted sketch stroke (docs/playback.md, "Sketch commands"): canvas
+/// mm (whatever the page's view), optional pressure 0..1 and time in seconds.
 struct PenPoint {
     double x = 0, y = 0;
     std::optional<double> pressure, time;

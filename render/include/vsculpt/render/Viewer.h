@@ -87,6 +87,11 @@ class Viewer {
     /// canvas beside it); width 0 restores the whole window. Picking (pixelRay,
     /// pixelToEyeNdc) takes window pixels and follows the area.
     void setViewArea(int x, int width);
+    /// Polylines on the sculpture (object space, mm; surface lines drawn on the model), drawn
+    /// with it from the next draw on. Uploaded only when they change.
+    void setSurfaceLines(const std::vector<std::vector<core::Vec3>>& lines);
+    /// The mono camera of the last draw (picking and drawing on the model).
+    const EyeView& monoEye() const;
     /// Where a window pixel falls in an eye's NDC (the eye under it in side-by-side mode),
     /// for picking palette items.
     void pixelToEyeNdc(double x, double y, StereoMode mode, double& ndcX, double& ndcY) const;

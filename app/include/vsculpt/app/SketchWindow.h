@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: MIT
+/// @file SketchWindow.h
+/// @brief `vsculpt sketch`: the tablet sketch mode's window (docs/sketch-mode.md). The canvas
+/// on the left (pen tablet or mouse), the sculpture on the right, updated as sketches become
+/// solids; drawing over the sculpture puts surface lines on it.
+#pragma once
+
+#include "vsculpt/render/Shot.h"
+
+#include <ostream>
+#include <string>
+
+namespace vsculpt::app {
+
+struct SketchWindowOptions {
+    std::string configPath;  ///< "" = configs/sculpt.json
+    std::string projectDir;  ///< "" = no project (nothing saved)
+    int width = 1280, height = 720;
+    int frames = 0;          ///< stop after this many frames (0: until closed)
+    std::string playScript;  ///< run this script first, one command per frame
+    std::string shotPath;    ///< PNG of the last frame
+    bool hidden = false;     ///< no visible window (automated runs)
+    bool devices = true;     ///< open pen tablets (and the other devices)
+    /// Tests: receives a copy of the last frame when not null.
+    render::Image* lastFrame = nullptr;
+};
+
+/// Exit code 0; 1 when no window can be opened (the message says why and points to
+/// `vsculpt play`); 2 for bad input (config, script, project).
+int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::ostream& err);
+
+}  // namespace vsculpt::app

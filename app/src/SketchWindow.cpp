@@ -1,0 +1,522 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/app/SketchWindow.h"
+
+#include "KeyNames.h"
+#include "vsculpt/app/DeviceInput.h"
+#include "vsculpt/app/Interaction.h"
+#include "vsculpt/app/LiveDevices.h"
+#include "vsculpt/app/Session.h"
+#include "vsculpt/app/SketchSolids.h"
+#include "vsculpt/app/Studio.h"
+#include "vsculpt/render/ProjectStroke.h"
+#include "vsculpt/render/SketchCanvas.h"
+#include "vsculpt/render/Viewer.h"
+
+#include <glm/gtc/quaternion.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+
+namespace vsculpt::app {
+
+namespace {
+
+// Screen millimetres per pixel of the canvas (about 100 dpi): view mm are what the designer
+// sees, so ink widths look the same on any window size.
+constexpr double kPxPerMm = 4.0;
+
+render::InkClass inkClass(const sketch::DrawItem& d) {
+    using R = sketch::Role;
+    switch (d.role) {
+        case R::Outline:
+            return render::InkClass::Outline;
+        case R::SurfaceLineX:
+        case R::SurfaceLineY:
+        case R::SurfaceLineZ:
+            return render::InkClass::SurfaceLine;
+        case R::SweepSection:
+        case R::SweepPath:
+            return render::InkClass::Sweep;
+        case R::Cut:
+        case R::Extrude:
+            return render::InkClass::Cut;
+        case R::None:
+            break;
+    }
+    switch (d.ink) {
+        case sketch::InkClass::Draft:
+            return render::InkClass::Draft;
+        case sketch::InkClass::Selected:
+            return render::InkClass::Selected;
+        case sketch::InkClass::Pending:
+            return render::InkClass::Pending;
+        case sketch::InkClass::Consumed:
+            return render::InkClass::Consumed;
+        case sketch::InkClass::Clean:
+            break;
+    }
+    return render::InkClass::Clean;
+}
+
+std::vector<render::InkStroke> inkOf(const sketch::SketchPage& page) {
+    std::vector<render::InkStroke> out;
+    for (const sketch::DrawItem& d : page.drawList()) {
+        if (d.points.empty()) continue;
+        render::InkStroke s;
+        s.pointsMm = d.points;
+        s.widthMm.assign(d.width.begin(), d.width.end());
+        s.darkness.assign(d.darkness.begin(), d.darkness.end());
+        s.cls = inkClass(d);
+        s.closed = d.closed;
+        out.push_back(std::move(s));
+    }
+    return out;
+}
+
+// The page's view (canvas = scale * view + offset) as the renderer takes it.
+render::CanvasView canvasView(const sketch::CanvasView& v, glm::ivec2 px) {
+    render::CanvasView r;
+    r.panMm = v.offset;
+    r.zoom = 1.0 / v.scale;
+    r.viewportPx = px;
+    r.viewportMm = glm::dvec2(px) / kPxPerMm;
+    return r;
+}
+
+const char* planeName(SketchPlane p) {
+    return p == SketchPlane::Front ? "front" : p == SketchPlane::Side ? "side" : "top";
+}
+
+}  // namespace
+
+int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostream& err) {
+    core::SculptConfig cfg;
+    Script script;
+    try {
+        cfg = core::loadConfig(o.configPath.empty() ? core::defaultConfigPath()
+                                                    : std::filesystem::path(o.configPath));
+        if (!o.playScript.empty()) script = loadScript(o.playScript);
+    } catch (const std::exception& e) {
+        err << "vsculpt sketch: error: " << e.what() << "\n";
+        return 2;
+    }
+    std::map<int, std::string> actionOfKey;
+    if (!bindingsByKey(cfg, actionOfKey, err)) return 2;
+    std::unique_ptr<render::Viewer> viewer;
+    try {
+        viewer = std::make_unique<render::Viewer>(o.width, o.height, "vsculpt sketch", !o.hidden);
+    } catch (const render::RenderError& e) {
+        err << "vsculpt sketch: no sketch window: " << e.what() << "\n"
+            << "vsculpt sketch: for a headless sketch session run `vsculpt play SCRIPT` with "
+               "sketch commands (docs/playback.md)\n";
+        return 1;
+    }
+    std::unique_ptr<Session> session;
+    std::unique_ptr<Studio> studioPtr;
+    try {
+        session = o.projectDir.empty() ? std::make_unique<Session>(cfg)
+                                       : Session::openProject(o.projectDir, cfg);
+        studioPtr = std::make_unique<Studio>(*session);
+    } catch (const std::exception& e) {
+        err << "vsculpt sketch: error: " << e.what() << "\n";
+        return 2;
+    }
+    Studio& studio = *studioPtr;
+    render::SketchCanvas canvas;
+    Interaction ui(*session);
+    std::unique_ptr<LiveDevices> live;
+    std::unique_ptr<DeviceInput> devices;
+    if (o.devices) {
+        live = std::make_unique<LiveDevices>(cfg.devices, err);
+        devices = std::make_unique<DeviceInput>(cfg.devices, live->rules(), ui, *session);
+    }
+
+    const auto start = std::chrono::steady_clock::now();
+    auto now = [&] {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+    double cursorX = 0, cursorY = 0, lastX = 0, lastY = 0;
+    bool drawing = false, panning = false, rotating = false, lassoMode = false;
+    std::vector<glm::dvec2> lasso;        // canvas mm
+    std::vector<glm::dvec2> modelStroke;  // pixels of the 3D view
+    bool modelDrawing = false;
+    bool tabletTouching = false;
+    std::string message = "TAB mode, I inflate, U undo";
+    size_t commandIndex = 0, frame = 0;
+    bool running = true;
+    core::Aabb frameBox = core::meshBounds(session->view().mesh());
+
+    while (running) {
+        const int W = viewer->width(), H = viewer->height();
+        const int canvasW = W / 2;
+        const glm::ivec2 canvasPx(canvasW, H);
+        // Pages may be added (reallocated) by any command: always fetch the current one.
+        auto page = [&]() -> sketch::SketchPage& { return studio.page(); };
+        // A page first shown with the plain view gets the canvas origin in the middle, where
+        // the object's origin is in the 3D view.
+        // With ink on it, the page is framed instead (HOME does the same later).
+        auto centre = [&](sketch::SketchPage& p) {
+            const glm::dvec2 viewSize = glm::dvec2(canvasPx) / kPxPerMm;
+            glm::dvec2 lo(1e300), hi(-1e300);
+            for (const sketch::DrawItem& d : p.drawList())
+                for (const glm::dvec2& q : d.points) {
+                    lo = glm::min(lo, q);
+                    hi = glm::max(hi, q);
+                }
+            sketch::CanvasView v;
+            if (lo.x <= hi.x) {
+                lo = glm::min(lo, glm::dvec2(0.0));  // keep the origin in view too
+                hi = glm::max(hi, glm::dvec2(0.0));
+                const glm::dvec2 size = glm::max(hi - lo, glm::dvec2(1.0));
+                v.scale = std::max(size.x / viewSize.x, size.y / viewSize.y) / 0.8;
+                v.offset = 0.5 * (lo + hi) - v.scale * 0.5 * viewSize;
+            } else {
+                v.offset = -0.5 * viewSize;
+            }
+            p.setView(v);
+        };
+        if (page().view() == sketch::CanvasView{} && !page().penIsDown()) centre(page());
+        // Window pixels (top-left origin) of the canvas -> view mm (lower-left origin, y up).
+        auto viewMm = [&](double x, double y) {
+            return glm::dvec2(x / kPxPerMm, (H - y) / kPxPerMm);
+        };
+        auto penSample = [&](double x, double y, std::optional<double> pressure) {
+            sketch::PenSample s;
+            s.view = viewMm(x, y);
+            s.pressure = pressure;
+            s.time = now();
+            return s;
+        };
+        auto act = [&](const std::function<void()>& f) {
+            try {
+                f();
+            } catch (const std::exception& e) {
+                message = e.what();
+                err << "vsculpt sketch: " << e.what() << "\n";
+            }
+        };
+        auto sketchCommand = [&](SketchCommand::Verb verb, const std::string& name = "") {
+            ScriptCommand c;
+            c.kind = ScriptCommand::Kind::Sketch;
+            c.sketch.verb = verb;
+            c.sketch.name = name;
+            act([&] {
+                studio.apply(c);
+                message = name.empty() ? "done" : name;
+            });
+        };
+
+        if (commandIndex < script.commands.size()) {
+            const ScriptCommand& c = script.commands[commandIndex++];
+            try {
+                studio.apply(c);
+            } catch (const std::exception& e) {
+                err << "vsculpt sketch: " << script.source << ":" << c.line << ": " << e.what()
+                    << "\n";
+                return 2;
+            }
+        }
+        for (const render::InputEvent& ev : viewer->pollEvents()) {
+            using K = render::InputEvent::Kind;
+            const bool overCanvas = cursorX < canvasW;
+            if (ev.kind == K::Close) running = false;
+            if (ev.kind == K::Key && ev.pressed) {
+                auto bound = actionOfKey.find(ev.code);
+                const std::string action = bound == actionOfKey.end() ? "" : bound->second;
+                using V = SketchCommand::Verb;
+                if (action == "quit") {
+                    running = false;
+                } else if (action == "undo") {
+                    act([&] { studio.undo(); });
+                } else if (action == "redo") {
+                    act([&] { studio.redo(); });
+                } else {
+                    switch (ev.code) {
+                        case GLFW_KEY_TAB:
+                            page().setMode(page().mode() == sketch::SketchMode::Draft
+                                               ? sketch::SketchMode::Cleanup
+                                               : sketch::SketchMode::Draft);
+                            break;
+                        case GLFW_KEY_L:
+                            page().setKind(sketch::StrokeKind::Line);
+                            break;
+                        case GLFW_KEY_C:
+                            page().setKind(sketch::StrokeKind::Curve);
+                            break;
+                        case GLFW_KEY_ENTER:
+                            act([&] { studio.sketchStep([](auto& p) { p.endGroup(); }); });
+                            break;
+                        case GLFW_KEY_O:
+                        case GLFW_KEY_1:
+                        case GLFW_KEY_2:
+                        case GLFW_KEY_3:
+                        case GLFW_KEY_S:
+                        case GLFW_KEY_P:
+                        case GLFW_KEY_X:
+                        case GLFW_KEY_E: {
+                            static const std::map<int, const char*> roles = {
+                                {GLFW_KEY_O, "outline"},       {GLFW_KEY_1, "surface-x"},
+                                {GLFW_KEY_2, "surface-y"},     {GLFW_KEY_3, "surface-z"},
+                                {GLFW_KEY_S, "sweep-section"}, {GLFW_KEY_P, "sweep-path"},
+                                {GLFW_KEY_X, "cut"},           {GLFW_KEY_E, "extrude"}};
+                            ScriptCommand c;
+                            c.kind = ScriptCommand::Kind::Sketch;
+                            c.sketch.verb = V::Role;
+                            c.sketch.name = roles.at(ev.code);
+                            c.sketch.target = SketchCommand::Target::Last;
+                            act([&] {
+                                studio.apply(c);
+                                message = std::string("role ") + roles.at(ev.code);
+                            });
+                            break;
+                        }
+                        case GLFW_KEY_I:
+                            sketchCommand(V::Solid, "inflate");
+                            break;
+                        case GLFW_KEY_T:
+                            sketchCommand(V::Solid, "three-section");
+                            break;
+                        case GLFW_KEY_W:
+                            sketchCommand(V::Solid, "sweep");
+                            break;
+                        case GLFW_KEY_K:
+                            sketchCommand(V::Solid, "cut");
+                            break;
+                        case GLFW_KEY_J:
+                            sketchCommand(V::Solid, "extrude");
+                            break;
+                        case GLFW_KEY_A:
+                            lassoMode = !lassoMode;
+                            message = lassoMode ? "lasso select" : "draw";
+                            break;
+                        case GLFW_KEY_DELETE:
+                            act([&] { studio.sketchStep([](auto& p) { p.deleteSelection(); }); });
+                            break;
+                        case GLFW_KEY_LEFT:
+                        case GLFW_KEY_RIGHT:
+                        case GLFW_KEY_UP:
+                        case GLFW_KEY_DOWN: {
+                            // One view millimetre per press, whatever the zoom.
+                            const double step = page().view().scale;
+                            const glm::dvec2 d = ev.code == GLFW_KEY_LEFT    ? glm::dvec2(-step, 0)
+                                                 : ev.code == GLFW_KEY_RIGHT ? glm::dvec2(step, 0)
+                                                 : ev.code == GLFW_KEY_UP    ? glm::dvec2(0, step)
+                                                                             : glm::dvec2(0, -step);
+                            act([&] { studio.sketchStep([&](auto& p) { p.moveSelection(d); }); });
+                            break;
+                        }
+                        case GLFW_KEY_MINUS:
+                        case GLFW_KEY_EQUAL: {
+                            const double f = ev.code == GLFW_KEY_MINUS ? 1 / 1.1 : 1.1;
+                            act([&] { studio.sketchStep([&](auto& p) { p.scaleSelection(f); }); });
+                            break;
+                        }
+                        case GLFW_KEY_PAGE_UP:
+                        case GLFW_KEY_PAGE_DOWN: {
+                            const size_t n = studio.document().pageCount();
+                            const size_t i = studio.document().currentIndex();
+                            studio.document().selectPage(
+                                ev.code == GLFW_KEY_PAGE_DOWN ? (i + 1) % n : (i + n - 1) % n);
+                            break;
+                        }
+                        case GLFW_KEY_N: {
+                            ScriptCommand c;
+                            c.kind = ScriptCommand::Kind::Sketch;
+                            c.sketch.verb = V::Page;
+                            c.sketch.name =
+                                "Sketch " + std::to_string(studio.document().pageCount() + 1);
+                            act([&] { studio.apply(c); });
+                            break;
+                        }
+                        case GLFW_KEY_F1:
+                        case GLFW_KEY_F2:
+                        case GLFW_KEY_F3:
+                            act([&] {
+                                studio.setPlane(studio.document().currentIndex(),
+                                                ev.code == GLFW_KEY_F1   ? SketchPlane::Front
+                                                : ev.code == GLFW_KEY_F2 ? SketchPlane::Side
+                                                                         : SketchPlane::Top);
+                            });
+                            break;
+                        case GLFW_KEY_HOME:
+                            centre(page());
+                            break;
+                        default:
+                            break;
+                    }
+                }
+            }
+            if (ev.kind == K::MouseButton) {
+                if (ev.code == GLFW_MOUSE_BUTTON_LEFT && overCanvas && !lassoMode) {
+                    if (ev.pressed && !page().penIsDown()) {
+                        act([&] { page().penDown(penSample(cursorX, cursorY, std::nullopt)); });
+                        drawing = page().penIsDown();
+                    } else if (!ev.pressed && drawing) {
+                        drawing = false;
+                        act([&] { studio.sketchStep([](auto& p) { p.penUp(); }); });
+                    }
+                } else if (ev.code == GLFW_MOUSE_BUTTON_LEFT && overCanvas && lassoMode) {
+                    if (ev.pressed) {
+                        lasso = {page().view().canvasFromView(viewMm(cursorX, cursorY))};
+                    } else if (lasso.size() >= 3) {
+                        act([&] {
+                            message =
+                                std::to_string(page().selectLasso(lasso).size()) + " selected";
+                        });
+                        lasso.clear();
+                    } else {
+                        lasso.clear();
+                    }
+                } else if (ev.code == GLFW_MOUSE_BUTTON_LEFT && !overCanvas) {
+                    // Drawing on the model: pixels relative to the 3D view's area.
+                    modelDrawing = ev.pressed;
+                    if (ev.pressed) {
+                        modelStroke = {glm::dvec2(cursorX - canvasW, cursorY)};
+                    } else if (!modelStroke.empty()) {
+                        act([&] {
+                            const core::RigidTransform& pose = session->objectPose();
+                            glm::dmat4 worldFromObject = glm::mat4_cast(pose.rotation);
+                            worldFromObject[3] = glm::dvec4(pose.translation, 1.0);
+                            const auto camera = render::ProjectionCamera::fromEye(
+                                viewer->monoEye(), worldFromObject, glm::ivec2(W - canvasW, H));
+                            const size_t n = studio.drawOnModel(modelStroke, camera);
+                            message = std::to_string(n) + " surface line(s)";
+                        });
+                        modelStroke.clear();
+                    }
+                }
+                if (ev.code == GLFW_MOUSE_BUTTON_RIGHT) {
+                    panning = ev.pressed && overCanvas;
+                    rotating = ev.pressed && !overCanvas;
+                }
+            }
+            if (ev.kind == K::Cursor) {
+                lastX = cursorX;
+                lastY = cursorY;
+                cursorX = ev.x;
+                cursorY = ev.y;
+                if (drawing)
+                    act([&] { page().penMove(penSample(cursorX, cursorY, std::nullopt)); });
+                if (!lasso.empty())
+                    lasso.push_back(page().view().canvasFromView(viewMm(cursorX, cursorY)));
+                if (modelDrawing) modelStroke.emplace_back(cursorX - canvasW, cursorY);
+                if (panning)
+                    page().pan(
+                        glm::dvec2((cursorX - lastX) / kPxPerMm, -(cursorY - lastY) / kPxPerMm));
+                if (rotating) {
+                    core::RigidTransform pose = session->objectPose();
+                    const double yaw = (cursorX - lastX) * cfg.interaction.rotateRadPerPixel;
+                    const double pitch = (cursorY - lastY) * cfg.interaction.rotateRadPerPixel;
+                    pose.rotation =
+                        glm::normalize(glm::angleAxis(pitch, core::Vec3(1, 0, 0)) *
+                                       glm::angleAxis(yaw, core::Vec3(0, 0, 1)) * pose.rotation);
+                    session->setObjectPose(pose);
+                }
+                if (overCanvas && !drawing) page().hover(viewMm(cursorX, cursorY));
+            }
+            if (ev.kind == K::Scroll && overCanvas)
+                act([&] { page().zoomAbout(viewMm(cursorX, cursorY), std::pow(1.1, ev.y)); });
+        }
+        if (live) {
+            try {
+                live->pump([&](const devices::DeviceEvent& e) { devices->handle(e); });
+                live->send(devices->takeOutput());
+            } catch (const std::exception& e) {
+                err << "vsculpt sketch: " << e.what() << "\n";
+            }
+            // The whole tablet maps onto the canvas; its pen draws with pressure.
+            for (const devices::PenSample& s : devices->takePenSamples()) {
+                if (!s.hasPosition && s.inProximity) continue;
+                const double x = s.positionNormalized.x * canvasW;
+                const double y = s.positionNormalized.y * H;
+                sketch::PenSample ps = penSample(x, y, s.pressure);
+                if (s.hasTilt)
+                    ps.tiltDeg =
+                        glm::clamp(glm::degrees(s.tiltRad), glm::dvec2(-90), glm::dvec2(90));
+                if (s.touching && !tabletTouching) act([&] { page().penDown(ps); });
+                if (s.touching && tabletTouching) act([&] { page().penMove(ps); });
+                if (!s.touching && tabletTouching)
+                    act([&] { studio.sketchStep([&](auto& p) { p.penUp(ps); }); });
+                tabletTouching = s.touching && page().penIsDown();
+                if (s.inProximity && !s.touching) act([&] { page().hover(ps.view); });
+                if (!s.inProximity) page().leaveProximity();
+            }
+        }
+        // The clean-up pause trigger runs on the wall clock.
+        if (!page().penIsDown())
+            act([&] { studio.sketchStep([&](auto& p) { p.advanceTime(now()); }); });
+        studio.syncSculptSteps();
+
+        // The 3D view on the right, the canvas on the left.
+        viewer->syncChunks(session->view());
+        if (frame % 15 == 0 || frameBox.empty()) {
+            const core::Aabb b = core::meshBounds(session->view().mesh());
+            if (!b.empty()) frameBox = b;
+        }
+        viewer->setViewArea(canvasW, W - canvasW);
+        viewer->setSurfaceLines(studio.surfaceLines());
+        const core::RigidTransform& pose = session->objectPose();
+        glm::dmat4 worldFromObject = glm::mat4_cast(pose.rotation);
+        worldFromObject[3] = glm::dvec4(pose.translation, 1.0);
+        render::ToolDraw tool;
+        tool.visible = false;
+        render::StereoDisplay display;
+        display.ipdMm = 0;
+        viewer->draw(worldFromObject, frameBox, tool, render::StereoMode::Mono, display);
+        render::CanvasOverlay overlay;
+        if (const auto hover = page().hoverCanvas()) {
+            overlay.penMm = *hover;
+            overlay.penWidthMm = page().params().ink.maxWidth * page().view().scale;
+            overlay.penTouching = page().penIsDown();
+        }
+        overlay.lassoMm = lasso;
+        try {
+            canvas.draw(inkOf(page()), canvasView(page().view(), canvasPx), {0, 0}, overlay);
+        } catch (const std::exception& e) {
+            err << "vsculpt sketch: error: " << e.what() << "\n";
+            return 1;
+        }
+        ++frame;
+        const bool last = o.frames > 0 && frame >= size_t(o.frames);
+        if (last && (!o.shotPath.empty() || o.lastFrame)) {
+            const render::Image img = viewer->readFrame();
+            if (o.lastFrame) *o.lastFrame = img;
+            if (!o.shotPath.empty()) {
+                try {
+                    render::writePng(img, o.shotPath);
+                    out << "vsculpt sketch: wrote " << o.shotPath << "\n";
+                } catch (const std::exception& e) {
+                    err << "vsculpt sketch: error: " << e.what() << "\n";
+                    return 1;
+                }
+            }
+        }
+        viewer->swap();
+        size_t strokes = page().liveStrokeIds().size();
+        char title[320];
+        std::snprintf(title, sizeof title,
+                      "vsculpt sketch — page '%s' (%s view) · %s%s · %zu stroke(s), %zu "
+                      "curve(s) · %zu step(s) · %s",
+                      page().name().c_str(),
+                      planeName(studio.plane(studio.document().currentIndex())),
+                      page().mode() == sketch::SketchMode::Draft ? "draft" : "clean-up",
+                      page().mode() == sketch::SketchMode::Draft
+                          ? ""
+                          : (page().kind() == sketch::StrokeKind::Line ? " lines" : " curves"),
+                      strokes, page().cleanCurves().size(), studio.stepCount(), message.c_str());
+        viewer->setTitle(title);
+        if (last) running = false;
+    }
+    session->endStroke();
+    out << "vsculpt sketch: " << frame << " frame(s), " << studio.document().pageCount()
+        << " page(s), " << studio.stepCount() << " step(s), "
+        << session->sculpture().counts().total() << " skeletons\n";
+    return 0;
+}
+
+}  // namespace vsculpt::app

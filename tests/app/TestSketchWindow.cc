@@ -1,0 +1,107 @@
+// SPDX-License-Identifier: MIT
+// The sketch window under Xvfb + Mesa: the canvas and the 3D view side by side, driven by a
+// playback script; the screenshot shows the sketch on paper at the left and the solid it made
+// (with a surface line drawn on the model) at the right.
+#include "vsculpt/app/SketchWindow.h"
+#include "vsculpt/render/Shot.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+using namespace vsculpt;
+
+namespace {
+
+std::string circlePen(double cx, double cy, double r) {
+    std::ostringstream s;
+    s << "pen";
+    for (int i = 0; i <= 60; ++i) {
+        const double t = 2 * M_PI * i / 60;
+        s << " " << cx + r * std::cos(t) << "," << cy + r * std::sin(t) << ",0.8";
+    }
+    return s.str() + "\n";
+}
+
+bool paper(const uint8_t* p) {
+    return p[0] > 225 && p[1] > 225 && p[2] > 215;
+}
+bool background(const uint8_t* p) {
+    return std::abs(p[0] - int(render::kBackground[0])) < 6 &&
+           std::abs(p[1] - int(render::kBackground[1])) < 6 &&
+           std::abs(p[2] - int(render::kBackground[2])) < 6;
+}
+bool reddish(const uint8_t* p) {
+    return p[0] > 90 && p[0] > 2 * p[1] && p[0] > 2 * p[2];
+}
+
+TEST(SketchWindow, ScreenshotShowsTheCanvasAndTheSolid) {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                      ("vsculpt-sketchwin-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::filesystem::path script = dir / "s.vsc";
+    {
+        std::ofstream f(script);
+        // An outline inflated at x = 60 (right of the initial sphere), a surface line across
+        // the sphere, and the plain view so the window frames the ink.
+        f << "page body\n"
+          << circlePen(60, 0, 18) << "role outline last\nsolid inflate\n"
+          << "model-line 640 480 40,240 320,240 600,240\ncanvas reset\n";
+    }
+    render::Image img;
+    app::SketchWindowOptions o;
+    o.playScript = script.string();
+    o.width = 1280;
+    o.height = 480;
+    o.frames = 10;
+    o.hidden = true;
+    o.devices = false;
+    o.lastFrame = &img;
+    std::ostringstream out, err;
+    ASSERT_EQ(app::runSketchWindow(o, out, err), 0) << err.str();
+    ASSERT_EQ(img.width, 1280);
+    size_t leftPaper = 0, leftInk = 0, rightBackground = 0, rightSculpture = 0, rightLine = 0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            const uint8_t* p = img.pixel(x, y);
+            if (x < 640) {
+                leftPaper += paper(p);
+                leftInk += !paper(p) && (reddish(p) || p[0] < 120);
+            } else {
+                rightBackground += background(p);
+                rightSculpture += !background(p) && !reddish(p);
+                rightLine += reddish(p);
+            }
+        }
+    const size_t half = size_t(640) * img.height;
+    EXPECT_GT(leftPaper, half * 8 / 10);  // mostly paper (with grid lines)
+    EXPECT_GT(leftInk, 300u);             // the outline's ink
+    EXPECT_GT(rightBackground, half / 3);
+    EXPECT_GT(rightSculpture, half / 20);  // the sphere and the inflated solid
+    EXPECT_GT(rightLine, 50u);             // the surface line drawn on the model
+    EXPECT_NE(out.str().find("10 frame(s), 2 page(s), 4 step(s)"), std::string::npos) << out.str();
+    std::filesystem::remove_all(dir);
+}
+
+TEST(SketchWindow, BadScriptIsRefusedWithTheLine) {
+    const std::filesystem::path script =
+        std::filesystem::temp_directory_path() /
+        ("vsculpt-badsketch-" + std::to_string(::getpid()) + ".vsc");
+    std::ofstream(script) << "page body\nsolid inflate\n";
+    app::SketchWindowOptions o;
+    o.playScript = script.string();
+    o.frames = 5;
+    o.hidden = true;
+    o.devices = false;
+    std::ostringstream out, err;
+    EXPECT_EQ(app::runSketchWindow(o, out, err), 2);
+    EXPECT_NE(err.str().find(script.string() + ":2: buildSketchSolid: outline missing"),
+              std::string::npos)
+        << err.str();
+    std::filesystem::remove(script);
+}
+
+}  // namespace

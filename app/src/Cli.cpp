@@ -29,7 +29,7 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         "them while recording every report; `vsculpt play` replays such a recording\n"
         "(docs/devices.md). `vsculpt sketch` opens the sketch window: a pen-tablet canvas\n"
         "beside the sculpture, sketches turned into solids in it (docs/sketch-mode.md).\n"
-        "Not built yet: the sculpting window does not show the sketch canvas in the headset,\n"
+        "What is not built yet: the sketch canvas is not shown inside the headset,\n"
         "and generic HID pen tablets (non-Wacom) are not read yet."};
     cli.set_version_flag("--version", "vsculpt 0.1.0");
     std::string configPath = core::defaultConfigPath().string();

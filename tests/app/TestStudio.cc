@@ -82,16 +82,18 @@ State state(Studio& s) {
 }
 
 // An outline away from the initial sphere (radius 20), drawn in clean-up mode on the front
-// view (canvas (x, y) -> object (x, z)): a loose loop that overshoots its start a little.
+// view (canvas (x, y) -> object (x, z)): a loose loop that overshoots its start a little,
+// gone round again.
 const std::string kOutline = "page Body Figures\nmode cleanup\nkind curve\n" +
-                             circlePen(60, 0, 18, 1.04, 0.3) + "endgroup\nrole outline last\n";
+                             circlePen(60, 0, 18, 1.04, 0.3) + circlePen(60, 0, 18, 1.02, -0.3) +
+                             "endgroup\nrole outline last\n";
 
 TEST(Studio, ScriptedOutlineInflatesIntoTheSculpture) {
     Session session(smallConfig());
     Studio studio(session);
     run(studio, kOutline + "solid inflate\n");
     const sketch::SketchPage& page = studio.page();
-    ASSERT_EQ(page.cleanCurves().size(), 1u);
+    ASSERT_EQ(page.cleanCurves().size(), 1u);  // two loops overdrawn: one clean curve
     EXPECT_TRUE(page.cleanCurves()[0].closed);
     ASSERT_TRUE(studio.lastSolid());
     ASSERT_EQ(session.history().done().size(), 1u);

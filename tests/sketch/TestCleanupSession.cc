@@ -240,6 +240,59 @@ TEST(CleanupSession, ClosedCurveFromOverlappingStrokes) {
     EXPECT_LT(worst, 0.05 * radius);
 }
 
+// A designer going round a loop again: the same group, or a later one correcting it.
+TEST(CleanupSession, WholeLoopsDrawnOverALoopDoNotGoRoundTwice) {
+    const double radius = 25.0;
+    // A loose loop of `turns` turns starting at angle a0, wobbling by `wobble` mm.
+    auto loop = [&](double a0, double turns, double wobble, double t0) {
+        Polyline2 pts;
+        const int n = int(2 * kPi * radius * turns);  // about 1 mm apart
+        for (int i = 0; i <= n; ++i) {
+            const double a = a0 + 2 * kPi * turns * i / n;
+            const double r = radius + wobble * std::sin(5 * a);
+            pts.push_back(r * glm::dvec2{std::cos(a), std::sin(a)});
+        }
+        return makeStroke(pts, t0, 0.01);
+    };
+    // Winding number of a closed polyline about the origin.
+    auto winding = [](const Polyline2& p) {
+        double total = 0;
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            const glm::dvec2 a = p[i], b = p[(i + 1) % p.size()];
+            total += std::atan2(a.x * b.y - a.y * b.x, glm::dot(a, b));
+        }
+        return total / (2 * kPi);
+    };
+    for (double chord : {0.0, 0.05})
+        for (double weight : {1.0, 0.5}) {
+            SCOPED_TRACE("featureChordRatio " + std::to_string(chord) + ", newStrokeWeight " +
+                         std::to_string(weight));
+            CleanupParams params = explicitParams();
+            params.featureChordRatio = chord;
+            params.join.newStrokeWeight = weight;
+            CleanupSession session(params);
+            session.addStroke(loop(0.1, 1.04, 0.4, 0), StrokeKind::Curve);
+            session.addStroke(loop(1.3, 1.02, -0.4, 1), StrokeKind::Curve);
+            session.endGroup();
+            ASSERT_EQ(session.curveCount(), 1u);
+            CleanCurve c = session.curves()[0];
+            EXPECT_TRUE(c.closed);
+            EXPECT_NEAR(winding(c.samples), 1.0, 1e-9);
+            double worst = 0;
+            for (const glm::dvec2& p : c.samples)
+                worst = std::max(worst, distanceToArc(p, {0, 0}, radius));
+            EXPECT_LT(worst, 0.08 * radius);
+            // A later group going round again corrects the curve: still one turn.
+            session.addStroke(loop(2.0, 1.03, 0.3, 5), StrokeKind::Curve);
+            session.endGroup();
+            ASSERT_EQ(session.curveCount(), 1u);
+            EXPECT_EQ(session.versionCount(0), 2u);
+            c = session.curves()[0];
+            EXPECT_TRUE(c.closed);
+            EXPECT_NEAR(winding(c.samples), 1.0, 1e-9);
+        }
+}
+
 TEST(CleanupSession, PauseTriggerGroupsByTime) {
     CleanupSession session;  // defaults: pause trigger, 1 s
     const auto stroke = [](double y, double t0) {

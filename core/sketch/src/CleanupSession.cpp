@@ -171,24 +171,46 @@ CleanCurve CleanupSession::makeCurve(int id, StrokeKind kind, Polyline2 knots, b
 void CleanupSession::buildCurve(const std::vector<int>& strokeIds, Polyline2& knots,
                                 bool& closed) const {
     const Polyline2 original = knots;
+    // A loop in one stroke: three points cannot describe it, so take the feature points of its
+    // two halves (split at the point farthest from the start).
+    auto loopKnots = [&](Polyline2 poly) {
+        poly = trimLoop(poly);
+        std::size_t far = 1;
+        for (std::size_t k = 1; k < poly.size(); ++k)
+            if (glm::distance(poly[k], poly[0]) > glm::distance(poly[far], poly[0])) far = k;
+        const Polyline2 first(poly.begin(), poly.begin() + std::ptrdiff_t(far) + 1);
+        const Polyline2 second(poly.begin() + std::ptrdiff_t(far), poly.end());
+        Polyline2 out = strokeFeaturePoints(first, params_.featureChordRatio);
+        const Polyline2 f2 = strokeFeaturePoints(second, params_.featureChordRatio);
+        // f2's first point is the split point, its last returns to the start.
+        out.insert(out.end(), f2.begin() + 1, f2.end() - 1);
+        return out;
+    };
     for (int id : strokeIds) {
         Polyline2 poly = resampled(id);
         if (poly.size() < 2) continue;
+        if (closed && knots.size() >= 3 && poly.size() >= 6 &&
+            isClosedStroke(poly, params_.closedness)) {
+            // A whole loop drawn over a loop overlaps all of it, so the newer loop wins
+            // everywhere (seed rule (a)); joining it at one place would go round twice.
+            // With newStrokeWeight < 1 the loops are blended point by point instead.
+            Polyline2 newer = loopKnots(poly);
+            const double w = params_.join.newStrokeWeight;
+            if (w < 1.0) {
+                const Polyline2 older = sampleNaturalSpline(knots, true, params_.samplesPerSpan);
+                for (glm::dvec2& q : newer) {
+                    glm::dvec2 best = older.front();
+                    for (const glm::dvec2& o : older)
+                        if (glm::distance(o, q) < glm::distance(best, q)) best = o;
+                    q = best + w * (q - best);
+                }
+            }
+            knots = std::move(newer);
+            continue;
+        }
         if (knots.size() < 2) {
             if (poly.size() >= 6 && isClosedStroke(poly, params_.closedness)) {
-                // A loop in one stroke: three points cannot describe it, so take the feature
-                // points of its two halves (split at the point farthest from the start).
-                poly = trimLoop(poly);
-                std::size_t far = 1;
-                for (std::size_t k = 1; k < poly.size(); ++k)
-                    if (glm::distance(poly[k], poly[0]) > glm::distance(poly[far], poly[0]))
-                        far = k;
-                const Polyline2 first(poly.begin(), poly.begin() + std::ptrdiff_t(far) + 1);
-                const Polyline2 second(poly.begin() + std::ptrdiff_t(far), poly.end());
-                knots = strokeFeaturePoints(first, params_.featureChordRatio);
-                const Polyline2 f2 = strokeFeaturePoints(second, params_.featureChordRatio);
-                // f2's first point is the split point, its last returns to the start.
-                knots.insert(knots.end(), f2.begin() + 1, f2.end() - 1);
+                knots = loopKnots(poly);
                 closed = true;
             } else {
                 knots = strokeFeaturePoints(poly, params_.featureChordRatio);

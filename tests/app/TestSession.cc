@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/app/Session.h"
 
+#include "AppTestUtil.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -13,24 +15,8 @@ using core::Vec3;
 
 namespace {
 
-core::SculptConfig smallConfig() {
-    core::SculptConfig cfg;
-    cfg.sphereRadiusMm = 30;
-    cfg.polygonizer.gridN = 64;
-    return cfg;
-}
-
-/// A temporary folder removed at the end of the test.
-struct TempDir {
-    std::filesystem::path path;
-    TempDir() {
-        path =
-            std::filesystem::temp_directory_path() / ("vsculpt-test-" + std::to_string(::getpid()) +
-                                                      "-" + std::to_string(std::random_device{}()));
-        std::filesystem::create_directories(path);
-    }
-    ~TempDir() { std::filesystem::remove_all(path); }
-};
+using test::smallConfig;
+using test::TempDir;
 
 uint64_t viewHash(const Session& s) {
     return core::canonicalMeshHash(s.view().mesh());

@@ -5,6 +5,8 @@
 
 #include "vsculpt/core/EvalField.h"
 
+#include "AppTestUtil.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -19,22 +21,9 @@ using core::Vec3;
 namespace {
 
 core::SculptConfig smallConfig() {
-    core::SculptConfig cfg;
-    cfg.sphereRadiusMm = 20;
-    cfg.polygonizer.gridN = 64;
-    return cfg;
+    return test::smallConfig(20);
 }
-
-struct TempDir {
-    std::filesystem::path path;
-    TempDir() {
-        path = std::filesystem::temp_directory_path() /
-               ("vsculpt-studio-" + std::to_string(::getpid()) + "-" +
-                std::to_string(std::random_device{}()));
-        std::filesystem::create_directories(path);
-    }
-    ~TempDir() { std::filesystem::remove_all(path); }
-};
+using test::TempDir;
 
 // A pen stroke along a circle (view mm), `turns` times round, with a slight wobble so
 // overdrawn strokes differ like a hand's.

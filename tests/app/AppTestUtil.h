@@ -1,0 +1,37 @@
+// SPDX-License-Identifier: MIT
+// Shared fixtures of the app tests: a small, quick config and a temporary folder.
+#pragma once
+
+#include "vsculpt/core/Config.h"
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <random>
+#include <string>
+
+namespace vsculpt::test {
+
+/// The default config with a smaller initial sphere and a coarser view grid (fast tests).
+inline core::SculptConfig smallConfig(double sphereRadiusMm = 30) {
+    core::SculptConfig cfg;
+    cfg.sphereRadiusMm = sphereRadiusMm;
+    cfg.polygonizer.gridN = 64;
+    return cfg;
+}
+
+/// A temporary folder removed at the end of the test.
+struct TempDir {
+    std::filesystem::path path;
+    TempDir() {
+        path =
+            std::filesystem::temp_directory_path() / ("vsculpt-test-" + std::to_string(::getpid()) +
+                                                      "-" + std::to_string(std::random_device{}()));
+        std::filesystem::create_directories(path);
+    }
+    ~TempDir() { std::filesystem::remove_all(path); }
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+};
+
+}  // namespace vsculpt::test

@@ -6,6 +6,7 @@
 #include "vsculpt/app/Interaction.h"
 #include "vsculpt/app/LiveDevices.h"
 #include "vsculpt/app/Session.h"
+#include "vsculpt/app/SketchInkList.h"
 #include "vsculpt/app/SketchSolids.h"
 #include "vsculpt/app/Studio.h"
 #include "vsculpt/render/ProjectStroke.h"
@@ -29,54 +30,6 @@ namespace {
 // Screen millimetres per pixel of the canvas (about 100 dpi): view mm are what the designer
 // sees, so ink widths look the same on any window size.
 constexpr double kPxPerMm = 4.0;
-
-render::InkClass inkClass(const sketch::DrawItem& d) {
-    using R = sketch::Role;
-    switch (d.role) {
-        case R::Outline:
-            return render::InkClass::Outline;
-        case R::SurfaceLineX:
-        case R::SurfaceLineY:
-        case R::SurfaceLineZ:
-            return render::InkClass::SurfaceLine;
-        case R::SweepSection:
-        case R::SweepPath:
-            return render::InkClass::Sweep;
-        case R::Cut:
-        case R::Extrude:
-            return render::InkClass::Cut;
-        case R::None:
-            break;
-    }
-    switch (d.ink) {
-        case sketch::InkClass::Draft:
-            return render::InkClass::Draft;
-        case sketch::InkClass::Selected:
-            return render::InkClass::Selected;
-        case sketch::InkClass::Pending:
-            return render::InkClass::Pending;
-        case sketch::InkClass::Consumed:
-            return render::InkClass::Consumed;
-        case sketch::InkClass::Clean:
-            break;
-    }
-    return render::InkClass::Clean;
-}
-
-std::vector<render::InkStroke> inkOf(const sketch::SketchPage& page) {
-    std::vector<render::InkStroke> out;
-    for (const sketch::DrawItem& d : page.drawList()) {
-        if (d.points.empty()) continue;
-        render::InkStroke s;
-        s.pointsMm = d.points;
-        s.widthMm.assign(d.width.begin(), d.width.end());
-        s.darkness.assign(d.darkness.begin(), d.darkness.end());
-        s.cls = inkClass(d);
-        s.closed = d.closed;
-        out.push_back(std::move(s));
-    }
-    return out;
-}
 
 // The page's view (canvas = scale * view + offset) as the renderer takes it.
 render::CanvasView canvasView(const sketch::CanvasView& v, glm::ivec2 px) {
@@ -142,7 +95,8 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
     };
     double cursorX = 0, cursorY = 0, lastX = 0, lastY = 0;
     bool drawing = false, panning = false, rotating = false, lassoMode = false;
-    std::vector<glm::dvec2> lasso;        // canvas mm
+    bool showHistory = false;       // undone and deleted strokes drawn faintly, to reuse (F-04)
+    std::vector<glm::dvec2> lasso;  // canvas mm
     std::vector<glm::dvec2> modelStroke;  // pixels of the 3D view
     bool modelDrawing = false;
     bool tabletTouching = false;
@@ -346,6 +300,23 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
                         case GLFW_KEY_HOME:
                             centre(page());
                             break;
+                        case GLFW_KEY_H:
+                            showHistory = !showHistory;
+                            message = showHistory ? "history shown (G reuses)" : "history hidden";
+                            break;
+                        case GLFW_KEY_G:
+                            act([&] {
+                                const auto id = nearestHistoryStroke(
+                                    page(), page().view().canvasFromView(viewMm(cursorX, cursorY)),
+                                    5 * page().view().scale);
+                                if (!id)
+                                    throw std::invalid_argument(
+                                        "no undone or deleted stroke "
+                                        "under the pointer");
+                                studio.sketchStep([&](auto& p) { p.reuse(*id); });
+                                message = "stroke " + std::to_string(*id) + " reused";
+                            });
+                            break;
                         default:
                             break;
                     }
@@ -476,7 +447,12 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
         }
         overlay.lassoMm = lasso;
         try {
-            canvas.draw(inkOf(page()), canvasView(page().view(), canvasPx), {0, 0}, overlay);
+            std::vector<render::InkStroke> ink = inkOf(page());
+            if (showHistory) {
+                std::vector<render::InkStroke> past = historyInk(page());
+                ink.insert(ink.begin(), past.begin(), past.end());  // under today's ink
+            }
+            canvas.draw(ink, canvasView(page().view(), canvasPx), {0, 0}, overlay);
         } catch (const std::exception& e) {
             err << "vsculpt sketch: error: " << e.what() << "\n";
             return 1;

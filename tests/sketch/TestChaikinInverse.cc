@@ -132,6 +132,32 @@ TEST(InverseChaikin, DifferentialAreaErrorOfKnownShapes) {
     EXPECT_NEAR(differentialAreaError(disc, square), 100.0 * (area - 2) / area, 1e-3);
 }
 
+// Straight stretches (a stadium, a D): neighbouring tangent lines along them are parallel and
+// must not be asked for a corner (they used to throw "tangent lines ... are parallel").
+TEST(InverseChaikin, StraightStretchesNeedNoCornerBetweenParallelTangents) {
+    for (double flat : {10.0, 40.0}) {
+        Polyline2 stadium;  // two half circles of radius 10 joined by straight sides
+        for (int i = 0; i < 400; ++i) {
+            const double t = 2 * M_PI * i / 400;
+            const double x = 10 * std::cos(t) + (std::cos(t) >= 0 ? flat / 2 : -flat / 2);
+            stadium.push_back({x, 10 * std::sin(t)});
+        }
+        SCOPED_TRACE("straight sides " + std::to_string(flat) + " mm");
+        const InverseChaikinResult r = inverseChaikin(stadium);
+        EXPECT_LT(differentialAreaError(stadium, chaikin(r.polygon, 4)), 3.0);
+    }
+    Polyline2 d;  // a D: a straight back and a half circle
+    for (int i = 0; i <= 100; ++i)
+        d.push_back({0, -20 + 40.0 * i / 100});
+    for (int i = 1; i < 200; ++i) {
+        const double t = M_PI / 2 - M_PI * i / 200;
+        d.push_back({20 * std::cos(t), 20 * std::sin(t)});
+    }
+    const InverseChaikinResult r = inverseChaikin(d);
+    // Its two right-angled corners are rounded by any Chaikin curve: measured 4.2%.
+    EXPECT_LT(differentialAreaError(d, chaikin(r.polygon, 4)), 5.0);
+}
+
 TEST(InverseChaikin, BadInputThrows) {
     EXPECT_THROW(inverseChaikin(Polyline2{{0, 0}, {1, 0}, {0, 1}}), std::invalid_argument);
     Polyline2 line;

@@ -347,6 +347,16 @@ InverseChaikinResult inverseChaikin(const Polyline2& input, const InverseChaikin
     InverseChaikinResult result;
     const std::size_t maxTangents = tangents.size() * 4;
     for (int round = 0;; ++round) {
+        // Neighbouring tangents along a straight stretch are parallel and have no corner
+        // between them: one of them says nothing the other does not.
+        for (std::size_t k = 0; tangents.size() > 3 && k < tangents.size();) {
+            const std::size_t j = (k + 1) % tangents.size();
+            if (angleBetween(directionOf(curve, tangents[k]), directionOf(curve, tangents[j])) <
+                1e-9)
+                tangents.erase(tangents.begin() + std::ptrdiff_t(j > k ? j : 0));
+            else
+                ++k;
+        }
         result.polygon = polygonOf(curve, tangents);
         const std::size_t m = tangents.size();
         // Edge k runs from vertex k−1 to vertex k; farAhead: the far vertex is vertex k.

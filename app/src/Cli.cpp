@@ -29,8 +29,7 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         "them while recording every report; `vsculpt play` replays such a recording\n"
         "(docs/devices.md). `vsculpt sketch` opens the sketch window: a pen-tablet canvas\n"
         "beside the sculpture, sketches turned into solids in it (docs/sketch-mode.md).\n"
-        "What is not built yet: the sketch canvas is not shown inside the headset,\n"
-        "and generic HID pen tablets (non-Wacom) are not read yet."};
+        "What is not built yet: generic HID pen tablets (non-Wacom) are not read yet."};
     cli.set_version_flag("--version", "vsculpt 0.1.0");
     std::string configPath = core::defaultConfigPath().string();
     cli.add_option("--config", configPath, "Config file (JSON with comments; docs/config.md)")
@@ -114,6 +113,9 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     sketchCmd->add_option("--shot", sketchOpts.shotPath,
                           "With --frames: save the last frame as PNG");
     sketchCmd->add_flag("--hidden", sketchOpts.hidden, "Do not show the window (automated runs)");
+    sketchCmd->add_flag("--headset", sketchOpts.headset,
+                        "Also show the sculpture in side-by-side stereo for the headset (full "
+                        "screen on the config's render.fullscreen_monitor)");
     sketchCmd->add_flag("!--no-devices", sketchOpts.devices,
                         "Do not open pen tablets or other devices (mouse and keyboard only)");
 

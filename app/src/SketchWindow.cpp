@@ -81,6 +81,23 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
     }
     Studio& studio = *studioPtr;
     render::SketchCanvas canvas;
+    // The headset sees the sculpture in stereo while the designer sketches on the desktop.
+    std::unique_ptr<render::Viewer> headset;
+    if (o.headset) {
+        try {
+            headset =
+                std::make_unique<render::Viewer>(1280, 720, "vsculpt sketch — headset", !o.hidden);
+            if (cfg.render.fullscreenMonitor >= 0 &&
+                !headset->goFullscreen(cfg.render.fullscreenMonitor))
+                err << "vsculpt sketch: monitor " << cfg.render.fullscreenMonitor
+                    << " not found (render.fullscreen_monitor); the headset view stays a "
+                       "window\n";
+        } catch (const render::RenderError& e) {
+            err << "vsculpt sketch: no headset window: " << e.what() << "\n";
+            return 1;
+        }
+        viewer->makeCurrent();
+    }
     Interaction ui(*session);
     std::unique_ptr<LiveDevices> live;
     std::unique_ptr<DeviceInput> devices;
@@ -106,6 +123,7 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
     core::Aabb frameBox = core::meshBounds(session->view().mesh());
 
     while (running) {
+        viewer->makeCurrent();
         const int W = viewer->width(), H = viewer->height();
         const int canvasW = W / 2;
         const glm::ivec2 canvasPx(canvasW, H);
@@ -473,6 +491,23 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
             }
         }
         viewer->swap();
+        if (headset) {
+            headset->makeCurrent();
+            headset->syncChunks(session->view());
+            headset->setSurfaceLines(studio.surfaceLines());
+            headset->setTrackedHead(devices ? devices->worldFromHead(devices::monotonicNowNs())
+                                            : std::optional<glm::dmat4>());
+            render::StereoDisplay eyes;
+            eyes.ipdMm = cfg.render.ipdMm;
+            eyes.verticalFovDeg = cfg.render.verticalFovDeg;
+            const render::LensCorrection lens{cfg.render.lensK1, cfg.render.lensK2,
+                                              cfg.render.lensRedScale, cfg.render.lensBlueScale};
+            headset->draw(worldFromObject, frameBox, tool, render::StereoMode::SideBySide, eyes,
+                          lens);
+            if (last && o.lastHeadsetFrame) *o.lastHeadsetFrame = headset->readFrame();
+            headset->swap();
+            viewer->makeCurrent();
+        }
         size_t strokes = page().liveStrokeIds().size();
         char title[320];
         std::snprintf(title, sizeof title,

@@ -464,6 +464,10 @@ bool Viewer::goFullscreen(int index) {
     return true;
 }
 
+void Viewer::makeCurrent() {
+    glfwMakeContextCurrent(mImpl->window.get());
+}
+
 void Viewer::swap() {
     glfwSwapBuffers(mImpl->window.get());
 }

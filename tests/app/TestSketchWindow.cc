@@ -86,6 +86,49 @@ TEST(SketchWindow, ScreenshotShowsTheCanvasAndTheSolid) {
     std::filesystem::remove_all(dir);
 }
 
+// The headset sees the sketched solid in side-by-side stereo while the designer sketches:
+// both eye images show the sculpture, shifted by the eyes' parallax.
+TEST(SketchWindow, HeadsetWindowShowsTheSolidInStereo) {
+    const std::filesystem::path script = std::filesystem::temp_directory_path() /
+                                         ("vsculpt-headset-" + std::to_string(::getpid()) + ".vsc");
+    std::ofstream(script) << "page body\n"
+                          << circlePen(60, 0, 18) << "role outline last\nsolid inflate\n";
+    render::Image desk, hmd;
+    app::SketchWindowOptions o;
+    o.playScript = script.string();
+    o.frames = 6;
+    o.hidden = true;
+    o.devices = false;
+    o.headset = true;
+    o.lastFrame = &desk;
+    o.lastHeadsetFrame = &hmd;
+    std::ostringstream out, err;
+    ASSERT_EQ(app::runSketchWindow(o, out, err), 0) << err.str();
+    ASSERT_EQ(hmd.width, 1280);
+    auto eye = [&](int x0) {
+        size_t n = 0;
+        double sx = 0;
+        for (int y = 0; y < hmd.height; ++y)
+            for (int x = x0; x < x0 + 640; ++x)
+                if (!background(hmd.pixel(x, y))) {
+                    ++n;
+                    sx += x - x0;
+                }
+        return std::make_pair(n, n ? sx / double(n) : 0.0);
+    };
+    const auto [leftN, leftX] = eye(0);
+    const auto [rightN, rightX] = eye(640);
+    EXPECT_GT(leftN, size_t(640 * 720 / 20));
+    EXPECT_GT(rightN, size_t(640 * 720 / 20));
+    // Crossed parallax: the nearer sculpture sits right of centre in the left eye's image.
+    EXPECT_GT(leftX - rightX, 1.0);
+    EXPECT_LT(std::abs(double(leftN) - double(rightN)), 0.1 * double(leftN));
+    // The desktop window still shows the canvas beside the 3D view.
+    ASSERT_EQ(desk.width, 1280);
+    EXPECT_TRUE(paper(desk.pixel(10, 10)));
+    std::filesystem::remove(script);
+}
+
 TEST(SketchWindow, BadScriptIsRefusedWithTheLine) {
     const std::filesystem::path script =
         std::filesystem::temp_directory_path() /

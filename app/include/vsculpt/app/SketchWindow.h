@@ -21,8 +21,12 @@ struct SketchWindowOptions {
     std::string shotPath;    ///< PNG of the last frame
     bool hidden = false;     ///< no visible window (automated runs)
     bool devices = true;     ///< open pen tablets (and the other devices)
+    /// A second window with the sculpture in side-by-side stereo for the headset (full screen
+    /// on render.fullscreen_monitor when set), head-tracked when a headset reports.
+    bool headset = false;
     /// Tests: receives a copy of the last frame when not null.
     render::Image* lastFrame = nullptr;
+    render::Image* lastHeadsetFrame = nullptr;  ///< the same for the headset window
 };
 
 /// Exit code 0; 1 when no window can be opened (the message says why and points to

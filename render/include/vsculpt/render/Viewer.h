@@ -98,6 +98,9 @@ class Viewer {
     /// Full screen on monitor `index` (0 = primary); false when there is no such monitor.
     bool goFullscreen(int index);
     void swap();
+    /// Makes this window's GL context current (needed when an application draws into more
+    /// than one window, e.g. the sketch window and its headset view).
+    void makeCurrent();
     Image readFrame();
 
     /// GL_RENDERER and GL_VERSION of the context, for benchmark records.

@@ -29,7 +29,8 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         "them while recording every report; `vsculpt play` replays such a recording\n"
         "(docs/devices.md). `vsculpt sketch` opens the sketch window: a pen-tablet canvas\n"
         "beside the sculpture, sketches turned into solids in it (docs/sketch-mode.md).\n"
-        "What is not built yet: generic HID pen tablets (non-Wacom) are not read yet."};
+        "What is not built yet: generic HID pen tablets are read through hidraw only (not\n"
+        "with access \"libusb\")."};
     cli.set_version_flag("--version", "vsculpt 0.1.0");
     std::string configPath = core::defaultConfigPath().string();
     cli.add_option("--config", configPath, "Config file (JSON with comments; docs/config.md)")

@@ -2,6 +2,8 @@
 #include "vsculpt/app/DeviceInput.h"
 
 #include "vsculpt/devices/HeadPose.h"
+#include "vsculpt/devices/HidDescriptor.h"
+#include "vsculpt/devices/HidDigitizer.h"
 #include "vsculpt/devices/OrientationFusion.h"
 #include "vsculpt/devices/Polhemus.h"
 #include "vsculpt/devices/RiftImu.h"
@@ -81,8 +83,9 @@ struct DeviceInput::State {
     };
 
     struct Tablet {
-        std::optional<devices::WacomModel> model;
+        std::optional<devices::WacomModel> model;  // legacy Wacom protocol
         devices::WacomPenState pen;
+        std::optional<devices::HidDigitizerDecoder> digitizer;  // generic HID pen tablets
     };
 
     core::DevicesConfig cfg;
@@ -174,6 +177,16 @@ struct DeviceInput::State {
                 // Out of its boot mouse mode into Wacom mode (the transport retries).
                 const auto mode = devices::wacomModeSwitchReport();
                 output.push_back({r.name, {mode.begin(), mode.end()}, true});
+                break;
+            }
+            case DeviceDriver::HidDigitizer: {
+                // Generic tablets describe their pen with HID usages: the decoder comes from
+                // the report descriptor the transport read at arrival.
+                Tablet& t = tablets[r.name];
+                t = Tablet{};
+                const auto descriptor = devices::parseHidDescriptor(devices::arrivalDescriptor(e));
+                if (descriptor)
+                    t.digitizer = devices::HidDigitizerDecoder::fromDescriptor(*descriptor);
                 break;
             }
             case DeviceDriver::RiftImu: {
@@ -406,10 +419,21 @@ void DeviceInput::handle(const DeviceEvent& e) {
             mState->penSamples.push_back(*s);
             break;
         }
-        case DeviceDriver::HidDigitizer:
-            // Needs the device's report descriptor, which the transports do not pass on yet.
-            ++n.decodeErrors;
+        case DeviceDriver::HidDigitizer: {
+            auto it = mState->tablets.find(r->name);
+            if (it == mState->tablets.end() || !it->second.digitizer) {
+                ++n.decodeErrors;  // no usable report descriptor arrived with the device
+                break;
+            }
+            const auto s = it->second.digitizer->decode(e.bytes, e.timeNs);
+            if (!s) {
+                ++n.decodeErrors;
+                break;
+            }
+            ++n.samples;
+            mState->penSamples.push_back(*s);
             break;
+        }
     }
 }
 

@@ -21,13 +21,21 @@ const char* toString(DeviceEventKind k) {
     return "?";
 }
 
-std::vector<uint8_t> arrivalBytes(uint16_t vendor, uint16_t product) {
-    return {uint8_t(vendor & 0xff), uint8_t(vendor >> 8), uint8_t(product & 0xff),
-            uint8_t(product >> 8)};
+std::vector<uint8_t> arrivalBytes(uint16_t vendor, uint16_t product,
+                                  std::span<const uint8_t> reportDescriptor) {
+    std::vector<uint8_t> b{uint8_t(vendor & 0xff), uint8_t(vendor >> 8), uint8_t(product & 0xff),
+                           uint8_t(product >> 8)};
+    b.insert(b.end(), reportDescriptor.begin(), reportDescriptor.end());
+    return b;
+}
+
+std::span<const uint8_t> arrivalDescriptor(const DeviceEvent& e) {
+    if (e.kind != DeviceEventKind::Arrived || e.bytes.size() <= 4) return {};
+    return std::span<const uint8_t>(e.bytes).subspan(4);
 }
 
 bool parseArrival(const DeviceEvent& e, uint16_t& vendor, uint16_t& product) {
-    if (e.kind != DeviceEventKind::Arrived || e.bytes.size() != 4) return false;
+    if (e.kind != DeviceEventKind::Arrived || e.bytes.size() < 4) return false;
     vendor = static_cast<uint16_t>(e.bytes[0] | (e.bytes[1] << 8));
     product = static_cast<uint16_t>(e.bytes[2] | (e.bytes[3] << 8));
     return true;

@@ -28,7 +28,7 @@ namespace {
 constexpr int64_t kNsPerS = 1'000'000'000;
 
 std::string readSmallFile(const fs::path& p) {
-    std::ifstream in(p);
+    std::ifstream in(p, std::ios::binary);
     std::ostringstream s;
     s << in.rdbuf();
     return s.str();
@@ -93,6 +93,7 @@ std::vector<HidrawNodeInfo> listHidrawNodes(const fs::path& sysClass, const fs::
         const std::string uevent = readSmallFile(hidDevice / "uevent");
         if (!parseHidId(uevent, info.bus, info.vendor, info.product)) continue;
         info.name = ueventValue(uevent, "HID_NAME");
+        info.hidDevice = hidDevice;
         info.readable = ::access((devDir / info.node).c_str(), R_OK) == 0;
         out.push_back(info);
     }
@@ -236,7 +237,12 @@ struct HidrawTransport::Impl {
             d->lastReportNs = monotonicNowNs();
             d->counters.arrivals = 1;
             OpenDevice* raw = d.get();
-            push(DeviceEventKind::Arrived, rule->name, arrivalBytes(node.vendor, node.product));
+            // The report descriptor travels with the arrival: generic decoders (pen tablets
+            // described by HID usages) are built from it, and recordings keep it.
+            const std::string rdesc = readSmallFile(node.hidDevice / "report_descriptor");
+            const std::vector<uint8_t> descriptor(rdesc.begin(), rdesc.end());
+            push(DeviceEventKind::Arrived, rule->name,
+                 arrivalBytes(node.vendor, node.product, descriptor));
             {
                 std::lock_guard lock(mutex);
                 devices.push_back(std::move(d));

@@ -12,7 +12,9 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include <cmath>
+#include <fstream>
 #include <random>
+#include <sstream>
 
 using namespace vsculpt;
 using namespace vsculpt::app;
@@ -280,6 +282,59 @@ TEST(DeviceInput, TabletPenSamplesAreQueuedForTheSketchCanvas) {
     EXPECT_EQ(input.counters().at("tablet").samples, 2u);
     EXPECT_EQ(input.counters().at("tablet").decodeErrors, 1u);
     EXPECT_EQ(core::canonicalMeshHash(s.view().mesh()), before);
+}
+
+}  // namespace
+
+namespace {
+
+std::vector<uint8_t> hexFile(const std::string& name) {
+    std::ifstream in(std::string(VSCULPT_DEVICES_DATA_DIR) + "/" + name);
+    EXPECT_TRUE(in) << name;
+    std::vector<uint8_t> out;
+    for (std::string line; std::getline(in, line);) {
+        if (line.empty() || line[0] == '#') continue;
+        std::istringstream words(line);
+        for (std::string w; words >> w;)
+            out.push_back(uint8_t(std::stoul(w, nullptr, 16)));
+    }
+    return out;
+}
+
+// A generic HID pen tablet (XP-Pen Deco 01 v3, its real report descriptor): the decoder is
+// built from the descriptor that arrives with the device, and its reports become canvas
+// samples in millimetres with pressure and tilt.
+TEST(DeviceInput, GenericHidTabletIsDecodedFromItsArrivingDescriptor) {
+    core::SculptConfig cfg = config();
+    cfg.devices.match.push_back({"xppen", "hid-digitizer", "hidraw", 0x28bd, {0x0905}, 0, 0, 0});
+    Session s(cfg);
+    Interaction ui(s);
+    DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, s);
+    // Without a descriptor nothing can be decoded.
+    input.handle(arrived(0, "xppen", 0x28bd, 0x0905));
+    const Bytes touch{7, 0x23, 0x00, 0x40, 0xFF, 0x7F, 0x00, 0x20, 0xE2, 0x2D};
+    input.handle(test::report(1 * kMs, "xppen", touch));
+    EXPECT_TRUE(input.takePenSamples().empty());
+    EXPECT_EQ(input.counters().at("xppen").decodeErrors, 1u);
+    // With it: tip + barrel + in range; x = 16384, y = 32767 of a 254 x 158.75 mm area,
+    // pressure 8192 of 16383, tilt (-30, 45) degrees.
+    const std::vector<uint8_t> rdesc = hexFile("xppen-deco01v3-pen.rdesc.hex");
+    input.handle(
+        {DeviceEventKind::Arrived, 2 * kMs, "xppen", devices::arrivalBytes(0x28bd, 0x0905, rdesc)});
+    input.handle(test::report(3 * kMs, "xppen", touch));
+    const std::vector<devices::PenSample> pen = input.takePenSamples();
+    ASSERT_EQ(pen.size(), 1u);
+    EXPECT_TRUE(pen[0].touching && pen[0].hasTilt);
+    EXPECT_NEAR(pen[0].positionMm.x, 16384.0 / 32767.0 * 254.0, 1e-9);
+    EXPECT_NEAR(pen[0].positionNormalized.y, 1.0, 1e-12);
+    EXPECT_NEAR(pen[0].pressure, 8192.0 / 16383.0, 1e-12);
+    EXPECT_NEAR(pen[0].tiltRad.y, 45 * M_PI / 180, 1e-12);
+    uint16_t v = 0, p = 0;
+    const DeviceEvent a{DeviceEventKind::Arrived, 0, "xppen", devices::arrivalBytes(1, 2, rdesc)};
+    ASSERT_TRUE(devices::parseArrival(a, v, p));
+    EXPECT_EQ(v, 1);
+    EXPECT_EQ(p, 2);
+    EXPECT_EQ(devices::arrivalDescriptor(a).size(), rdesc.size());
 }
 
 }  // namespace

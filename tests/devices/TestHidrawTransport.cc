@@ -67,6 +67,11 @@ std::string sysPath(int node) {
            "/hidraw/hidraw" + std::to_string(node);
 }
 
+// The start of a multi-axis controller's report descriptor (Generic Desktop, Multi-axis
+// Controller, Collection (Application), End Collection): the transport passes it on.
+constexpr const char* kDescriptorHex = "05010908A101C0";
+const std::vector<uint8_t> kDescriptor{0x05, 0x01, 0x09, 0x08, 0xA1, 0x01, 0xC0};
+
 // A SpaceMouse Compact's hidraw node `hidraw<node>` (a replugged device gets a new number, as
 // with the kernel) with a script of input reports.
 void addSpaceMouse(UMockdevTestbed* tb, const std::vector<std::vector<uint8_t>>& reports,
@@ -78,8 +83,8 @@ void addSpaceMouse(UMockdevTestbed* tb, const std::vector<std::vector<uint8_t>>&
         "P: " + sysPath(node).substr(4) + "\nN: hidraw" + n +
         "\nE: SUBSYSTEM=hidraw\nE: DEVNAME=/dev/hidraw" + n + "\n\nP: " + hid +
         "\nE: SUBSYSTEM=hid\nE: HID_ID=0003:0000256F:0000C635\n"
-        "E: HID_NAME=3Dconnexion SpaceMouse Compact\n\nP: " +
-        usbInterface(node) +
+        "E: HID_NAME=3Dconnexion SpaceMouse Compact\nH: report_descriptor=" +
+        std::string(kDescriptorHex) + "\n\nP: " + usbInterface(node) +
         "\nE: SUBSYSTEM=usb\nE: DEVTYPE=usb_interface\nA: bInterfaceNumber=00\\n\n";
     ASSERT_TRUE(umockdev_testbed_add_from_string(tb, text.c_str(), &error)) << error->message;
     const std::string script =
@@ -133,6 +138,8 @@ TEST(HidrawTransport, ReadsReportsFollowsRemovalAndReturn) {
         std::vector<DeviceEvent> events;
         ASSERT_TRUE(waitFor(q, events, DeviceEventKind::Report, 3));
         ASSERT_EQ(events.front().kind, DeviceEventKind::Arrived);
+        // The arrival carries the ids and the report descriptor read from sysfs, byte-exact.
+        EXPECT_EQ(events.front().bytes, arrivalBytes(0x256f, 0xc635, kDescriptor));
         std::vector<std::vector<uint8_t>> got;
         for (const auto& e : events)
             if (e.kind == DeviceEventKind::Report) got.push_back(e.bytes);

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <deque>
 #include <mutex>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -31,13 +32,17 @@ struct DeviceEvent {
     int64_t timeNs = 0;  ///< host steady clock, ns, when the transport received it
     std::string device;  ///< the config rule's name ("spacemouse", "tracker", ...)
     /// Report: the report as read. Arrived: the device's USB vendor and product id, 2 bytes
-    /// each, little-endian (arrivalBytes). Otherwise empty.
+    /// each, little-endian, then its HID report descriptor when the transport could read it
+    /// (arrivalBytes). Otherwise empty.
     std::vector<uint8_t> bytes;
 };
 
-std::vector<uint8_t> arrivalBytes(uint16_t vendor, uint16_t product);
-/// Vendor and product from an Arrived event's bytes; false when they are not 4 bytes.
+std::vector<uint8_t> arrivalBytes(uint16_t vendor, uint16_t product,
+                                  std::span<const uint8_t> reportDescriptor = {});
+/// Vendor and product from an Arrived event's bytes; false when there are fewer than 4.
 bool parseArrival(const DeviceEvent& e, uint16_t& vendor, uint16_t& product);
+/// The HID report descriptor an Arrived event carries (empty when none).
+std::span<const uint8_t> arrivalDescriptor(const DeviceEvent& e);
 
 /// Host monotonic time in ns (std::chrono::steady_clock), the clock of DeviceEvent::timeNs.
 int64_t monotonicNowNs();

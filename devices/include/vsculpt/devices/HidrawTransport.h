@@ -44,6 +44,7 @@ struct HidrawNodeInfo {
     uint16_t bus = 0, vendor = 0, product = 0;
     std::string name;  ///< HID_NAME from the uevent
     bool readable = false;
+    std::filesystem::path hidDevice;  ///< the HID device's sysfs folder (report_descriptor)
 };
 
 /// Every hidraw node under `sysClass` (empty when there is none or no such directory).

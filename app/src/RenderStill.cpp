@@ -2,6 +2,7 @@
 #include "vsculpt/app/RenderStill.h"
 
 #include "vsculpt/app/Session.h"
+#include "vsculpt/app/Studio.h"
 #include "vsculpt/render/RayTrace.h"
 
 #include <chrono>
@@ -31,9 +32,11 @@ int runRenderStill(const RenderOptions& o, std::ostream& out, std::ostream& err)
             session = std::make_unique<Session>(
                 core::loadConfig(o.configPath.empty() ? core::defaultConfigPath()
                                                       : std::filesystem::path(o.configPath)));
+            // Through a studio, so sketch commands build their solids here too.
+            Studio studio(*session);
             for (const ScriptCommand& c : script.commands) {
                 try {
-                    session->apply(c);
+                    studio.apply(c);
                 } catch (const std::exception& e) {
                     err << "vsculpt render: error: " << script.source << ":" << c.line << ": "
                         << e.what() << "\n";

@@ -127,8 +127,13 @@ bool Session::apply(const ScriptCommand& c) {
         case K::Save:
             save();
             return false;
+        case K::Sketch:
+            break;
     }
-    return false;
+    // Sketch commands need the sketch document: Studio::apply runs them.
+    throw SessionError(
+        "a sketch command needs the sketch mode (vsculpt play and vsculpt "
+        "sketch run them)");
 }
 
 void Session::setSize(int level) {

@@ -6,6 +6,7 @@
 #include "vsculpt/app/Interaction.h"
 #include "vsculpt/app/LiveDevices.h"
 #include "vsculpt/app/Session.h"
+#include "vsculpt/app/Studio.h"
 #include "vsculpt/core/EvalField.h"
 #include "vsculpt/render/RayTrace.h"
 #include "vsculpt/render/Viewer.h"
@@ -59,6 +60,7 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
     }
 
     Session session(cfg);
+    Studio studio(session);  // scripts may hold sketch commands; undo spans both
     Interaction ui(session);
     // Trackers, 3D mice and headsets, when connected (docs/devices.md); the mouse and
     // keyboard below work either way. The session's object pose is the one truth: the 3D
@@ -118,7 +120,7 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
         if (commandIndex < script.commands.size()) {
             const ScriptCommand& c = script.commands[commandIndex++];
             try {
-                session.apply(c);
+                studio.apply(c);
             } catch (const std::exception& e) {
                 err << "vsculpt: " << script.source << ":" << c.line << ": " << e.what() << "\n";
                 return 2;
@@ -148,9 +150,9 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
                     else if (a == "overview")
                         ui.overview();
                     else if (a == "undo")
-                        session.undo();
+                        studio.undo();
                     else if (a == "redo")
-                        session.redo();
+                        studio.redo();
                 } catch (const std::exception& e) {
                     err << "vsculpt: " << e.what() << "\n";
                 }
@@ -284,6 +286,7 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
                 }
             }
         }
+        studio.syncSculptSteps();  // strokes made with the pointer or the pen join the timeline
         viewer->syncChunks(session.view());
         if (session.zoom() != framedZoom || frame % 30 == 29) {
             const Aabb b = meshBounds(session.view().mesh());

@@ -257,6 +257,8 @@ TEST(Studio, BadSketchCommandsNameTheLine) {
     }
     EXPECT_EQ(studio.stepCount(), 0u);
     EXPECT_EQ(session.history().done().size(), 0u);
+    // A session alone refuses sketch commands rather than skipping them.
+    EXPECT_THROW(session.apply(s.commands[1]), SessionError);
 }
 
 }  // namespace

@@ -214,6 +214,11 @@ struct HidrawTransport::Impl {
                     static_cast<int>(std::strtol(readSmallFile(ifaceFile).c_str(), nullptr, 16));
                 if (iface != rule->interfaceNumber) continue;
             }
+            // The report descriptor travels with the arrival: generic decoders (pen tablets
+            // described by HID usages) are built from it, and recordings keep it. Read before
+            // opening the node, so its reader starts as soon as the node is open.
+            const std::string rdesc = readSmallFile(node.hidDevice / "report_descriptor");
+            const std::vector<uint8_t> descriptor(rdesc.begin(), rdesc.end());
             const fs::path path = devDir / node.node;
             int fd = ::open(path.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
             if (fd < 0) fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
@@ -237,10 +242,6 @@ struct HidrawTransport::Impl {
             d->lastReportNs = monotonicNowNs();
             d->counters.arrivals = 1;
             OpenDevice* raw = d.get();
-            // The report descriptor travels with the arrival: generic decoders (pen tablets
-            // described by HID usages) are built from it, and recordings keep it.
-            const std::string rdesc = readSmallFile(node.hidDevice / "report_descriptor");
-            const std::vector<uint8_t> descriptor(rdesc.begin(), rdesc.end());
             push(DeviceEventKind::Arrived, rule->name,
                  arrivalBytes(node.vendor, node.product, descriptor));
             {

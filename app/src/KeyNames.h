@@ -44,19 +44,22 @@ inline int keyCode(const std::string& name) {
     return it == named.end() ? -1 : it->second;
 }
 
-/// The config's interaction.bindings by key code. False (and the message, naming the config
-/// file and the binding, written to `err`) for an unknown key name or a key bound twice.
-inline bool bindingsByKey(const core::SculptConfig& cfg, std::map<int, std::string>& actionOfKey,
+/// A binding table (interaction.bindings or interaction.sketch_bindings) by key code. False
+/// (and the message, naming the config file and the binding, written to `err`) for an unknown
+/// key name or a key bound twice.
+inline bool bindingsByKey(const core::SculptConfig& cfg,
+                          const std::map<std::string, std::string>& bindings,
+                          const std::string& section, std::map<int, std::string>& actionOfKey,
                           std::ostream& err) {
-    for (const auto& [action, key] : cfg.interaction.bindings) {
+    for (const auto& [action, key] : bindings) {
         const int code = keyCode(key);
         if (code < 0) {
-            err << "vsculpt: error: " << cfg.source << ": interaction.bindings." << action
+            err << "vsculpt: error: " << cfg.source << ": interaction." << section << "." << action
                 << ": unknown key name '" << key << "' (use A-Z, 0-9, F1-F12, TAB, SPACE, ...)\n";
             return false;
         }
         if (actionOfKey.count(code)) {
-            err << "vsculpt: error: " << cfg.source << ": interaction.bindings." << action
+            err << "vsculpt: error: " << cfg.source << ": interaction." << section << "." << action
                 << ": key '" << key << "' is already bound to " << actionOfKey[code] << "\n";
             return false;
         }

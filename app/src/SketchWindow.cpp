@@ -15,6 +15,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -59,7 +60,8 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
         return 2;
     }
     std::map<int, std::string> actionOfKey;
-    if (!bindingsByKey(cfg, actionOfKey, err)) return 2;
+    if (!bindingsByKey(cfg, cfg.interaction.sketchBindings, "sketch_bindings", actionOfKey, err))
+        return 2;
     std::unique_ptr<render::Viewer> viewer;
     try {
         viewer = std::make_unique<render::Viewer>(o.width, o.height, "vsculpt sketch", !o.hidden);
@@ -207,137 +209,83 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
                     act([&] { studio.undo(); });
                 } else if (action == "redo") {
                     act([&] { studio.redo(); });
-                } else {
-                    switch (ev.code) {
-                        case GLFW_KEY_TAB:
-                            page().setMode(page().mode() == sketch::SketchMode::Draft
-                                               ? sketch::SketchMode::Cleanup
-                                               : sketch::SketchMode::Draft);
-                            break;
-                        case GLFW_KEY_L:
-                            page().setKind(sketch::StrokeKind::Line);
-                            break;
-                        case GLFW_KEY_C:
-                            page().setKind(sketch::StrokeKind::Curve);
-                            break;
-                        case GLFW_KEY_ENTER:
-                            act([&] { studio.sketchStep([](auto& p) { p.endGroup(); }); });
-                            break;
-                        case GLFW_KEY_O:
-                        case GLFW_KEY_1:
-                        case GLFW_KEY_2:
-                        case GLFW_KEY_3:
-                        case GLFW_KEY_S:
-                        case GLFW_KEY_P:
-                        case GLFW_KEY_X:
-                        case GLFW_KEY_E: {
-                            static const std::map<int, const char*> roles = {
-                                {GLFW_KEY_O, "outline"},       {GLFW_KEY_1, "surface-x"},
-                                {GLFW_KEY_2, "surface-y"},     {GLFW_KEY_3, "surface-z"},
-                                {GLFW_KEY_S, "sweep-section"}, {GLFW_KEY_P, "sweep-path"},
-                                {GLFW_KEY_X, "cut"},           {GLFW_KEY_E, "extrude"}};
-                            ScriptCommand c;
-                            c.kind = ScriptCommand::Kind::Sketch;
-                            c.sketch.verb = V::Role;
-                            c.sketch.name = roles.at(ev.code);
-                            c.sketch.target = SketchCommand::Target::Last;
-                            act([&] {
-                                studio.apply(c);
-                                message = std::string("role ") + roles.at(ev.code);
-                            });
-                            break;
-                        }
-                        case GLFW_KEY_I:
-                            sketchCommand(V::Solid, "inflate");
-                            break;
-                        case GLFW_KEY_T:
-                            sketchCommand(V::Solid, "three-section");
-                            break;
-                        case GLFW_KEY_W:
-                            sketchCommand(V::Solid, "sweep");
-                            break;
-                        case GLFW_KEY_K:
-                            sketchCommand(V::Solid, "cut");
-                            break;
-                        case GLFW_KEY_J:
-                            sketchCommand(V::Solid, "extrude");
-                            break;
-                        case GLFW_KEY_A:
-                            lassoMode = !lassoMode;
-                            message = lassoMode ? "lasso select" : "draw";
-                            break;
-                        case GLFW_KEY_DELETE:
-                            act([&] { studio.sketchStep([](auto& p) { p.deleteSelection(); }); });
-                            break;
-                        case GLFW_KEY_LEFT:
-                        case GLFW_KEY_RIGHT:
-                        case GLFW_KEY_UP:
-                        case GLFW_KEY_DOWN: {
-                            // One view millimetre per press, whatever the zoom.
-                            const double step = page().view().scale;
-                            const glm::dvec2 d = ev.code == GLFW_KEY_LEFT    ? glm::dvec2(-step, 0)
-                                                 : ev.code == GLFW_KEY_RIGHT ? glm::dvec2(step, 0)
-                                                 : ev.code == GLFW_KEY_UP    ? glm::dvec2(0, step)
-                                                                             : glm::dvec2(0, -step);
-                            act([&] { studio.sketchStep([&](auto& p) { p.moveSelection(d); }); });
-                            break;
-                        }
-                        case GLFW_KEY_MINUS:
-                        case GLFW_KEY_EQUAL: {
-                            const double f = ev.code == GLFW_KEY_MINUS ? 1 / 1.1 : 1.1;
-                            act([&] { studio.sketchStep([&](auto& p) { p.scaleSelection(f); }); });
-                            break;
-                        }
-                        case GLFW_KEY_PAGE_UP:
-                        case GLFW_KEY_PAGE_DOWN: {
-                            const size_t n = studio.document().pageCount();
-                            const size_t i = studio.document().currentIndex();
-                            studio.document().selectPage(
-                                ev.code == GLFW_KEY_PAGE_DOWN ? (i + 1) % n : (i + n - 1) % n);
-                            break;
-                        }
-                        case GLFW_KEY_N: {
-                            ScriptCommand c;
-                            c.kind = ScriptCommand::Kind::Sketch;
-                            c.sketch.verb = V::Page;
-                            c.sketch.name =
-                                "Sketch " + std::to_string(studio.document().pageCount() + 1);
-                            act([&] { studio.apply(c); });
-                            break;
-                        }
-                        case GLFW_KEY_F1:
-                        case GLFW_KEY_F2:
-                        case GLFW_KEY_F3:
-                            act([&] {
-                                studio.setPlane(studio.document().currentIndex(),
-                                                ev.code == GLFW_KEY_F1   ? SketchPlane::Front
-                                                : ev.code == GLFW_KEY_F2 ? SketchPlane::Side
-                                                                         : SketchPlane::Top);
-                            });
-                            break;
-                        case GLFW_KEY_HOME:
-                            centre(page());
-                            break;
-                        case GLFW_KEY_H:
-                            showHistory = !showHistory;
-                            message = showHistory ? "history shown (G reuses)" : "history hidden";
-                            break;
-                        case GLFW_KEY_G:
-                            act([&] {
-                                const auto id = nearestHistoryStroke(
-                                    page(), page().view().canvasFromView(viewMm(cursorX, cursorY)),
-                                    5 * page().view().scale);
-                                if (!id)
-                                    throw std::invalid_argument(
-                                        "no undone or deleted stroke "
-                                        "under the pointer");
-                                studio.sketchStep([&](auto& p) { p.reuse(*id); });
-                                message = "stroke " + std::to_string(*id) + " reused";
-                            });
-                            break;
-                        default:
-                            break;
-                    }
+                } else if (action == "mode") {
+                    page().setMode(page().mode() == sketch::SketchMode::Draft
+                                       ? sketch::SketchMode::Cleanup
+                                       : sketch::SketchMode::Draft);
+                } else if (action == "kind_line" || action == "kind_curve") {
+                    page().setKind(action == "kind_line" ? sketch::StrokeKind::Line
+                                                         : sketch::StrokeKind::Curve);
+                } else if (action == "end_group") {
+                    act([&] { studio.sketchStep([](auto& p) { p.endGroup(); }); });
+                } else if (action.rfind("role_", 0) == 0) {
+                    // role_surface_x -> "surface-x", the script's role names.
+                    std::string role = action.substr(5);
+                    std::replace(role.begin(), role.end(), '_', '-');
+                    ScriptCommand c;
+                    c.kind = ScriptCommand::Kind::Sketch;
+                    c.sketch.verb = V::Role;
+                    c.sketch.name = role;
+                    c.sketch.target = SketchCommand::Target::Last;
+                    act([&] {
+                        studio.apply(c);
+                        message = "role " + role;
+                    });
+                } else if (action.rfind("solid_", 0) == 0) {
+                    std::string construction = action.substr(6);
+                    std::replace(construction.begin(), construction.end(), '_', '-');
+                    sketchCommand(V::Solid, construction);
+                } else if (action == "lasso") {
+                    lassoMode = !lassoMode;
+                    message = lassoMode ? "lasso select" : "draw";
+                } else if (action == "delete") {
+                    act([&] { studio.sketchStep([](auto& p) { p.deleteSelection(); }); });
+                } else if (action.rfind("move_", 0) == 0) {
+                    // One view millimetre per press, whatever the zoom.
+                    const double step = page().view().scale;
+                    const glm::dvec2 d = action == "move_left"    ? glm::dvec2(-step, 0)
+                                         : action == "move_right" ? glm::dvec2(step, 0)
+                                         : action == "move_up"    ? glm::dvec2(0, step)
+                                                                  : glm::dvec2(0, -step);
+                    act([&] { studio.sketchStep([&](auto& p) { p.moveSelection(d); }); });
+                } else if (action == "scale_down" || action == "scale_up") {
+                    const double f = action == "scale_down" ? 1 / 1.1 : 1.1;
+                    act([&] { studio.sketchStep([&](auto& p) { p.scaleSelection(f); }); });
+                } else if (action == "page_previous" || action == "page_next") {
+                    const size_t n = studio.document().pageCount();
+                    const size_t i = studio.document().currentIndex();
+                    studio.document().selectPage(action == "page_next" ? (i + 1) % n
+                                                                       : (i + n - 1) % n);
+                } else if (action == "page_new") {
+                    ScriptCommand c;
+                    c.kind = ScriptCommand::Kind::Sketch;
+                    c.sketch.verb = V::Page;
+                    c.sketch.name = "Sketch " + std::to_string(studio.document().pageCount() + 1);
+                    act([&] { studio.apply(c); });
+                } else if (action.rfind("view_", 0) == 0) {
+                    act([&] {
+                        studio.setPlane(studio.document().currentIndex(),
+                                        action == "view_front"  ? SketchPlane::Front
+                                        : action == "view_side" ? SketchPlane::Side
+                                                                : SketchPlane::Top);
+                    });
+                } else if (action == "frame") {
+                    centre(page());
+                } else if (action == "history") {
+                    showHistory = !showHistory;
+                    message =
+                        showHistory ? "history shown (reuse with the reuse key)" : "history hidden";
+                } else if (action == "reuse") {
+                    act([&] {
+                        const auto id = nearestHistoryStroke(
+                            page(), page().view().canvasFromView(viewMm(cursorX, cursorY)),
+                            5 * page().view().scale);
+                        if (!id)
+                            throw std::invalid_argument(
+                                "no undone or deleted stroke under the pointer");
+                        studio.sketchStep([&](auto& p) { p.reuse(*id); });
+                        message = "stroke " + std::to_string(*id) + " reused";
+                    });
                 }
             }
             if (ev.kind == K::MouseButton) {

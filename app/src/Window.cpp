@@ -49,7 +49,7 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
         return 2;
     }
     std::map<int, std::string> actionOfKey;
-    if (!bindingsByKey(cfg, actionOfKey, err)) return 2;
+    if (!bindingsByKey(cfg, cfg.interaction.bindings, "bindings", actionOfKey, err)) return 2;
     std::unique_ptr<render::Viewer> viewer;
     try {
         viewer = std::make_unique<render::Viewer>(o.width, o.height, "vsculpt", !o.hidden);

@@ -372,19 +372,24 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
     Section inter = top.sub("interaction");
     inter.number("depth_step_over_diameter", cfg.interaction.depthStepOverDiameter);
     inter.number("rotate_rad_per_pixel", cfg.interaction.rotateRadPerPixel);
-    if (const json* b = inter.find("bindings")) {
-        if (!b->is_object())
-            inter.fail("interaction.bindings", "expected an object of action: key name");
-        const auto& actions = bindableActions();
+    auto bindings = [&](const char* name, const std::vector<std::string>& actions, const char* doc,
+                        std::map<std::string, std::string>& out) {
+        const json* b = inter.find(name);
+        if (!b) return;
+        const std::string where = std::string("interaction.") + name;
+        if (!b->is_object()) inter.fail(where, "expected an object of action: key name");
         for (auto it = b->begin(); it != b->end(); ++it) {
-            const std::string key = "interaction.bindings." + it.key();
+            const std::string key = where + "." + it.key();
             if (std::find(actions.begin(), actions.end(), it.key()) == actions.end())
-                inter.fail(key, "unknown action (see docs/window.md)");
+                inter.fail(key, std::string("unknown action (see ") + doc + ")");
             if (!it->is_string() || it->get<std::string>().empty())
                 inter.fail(key, "expected a key name such as \"TAB\" or \"Z\"");
-            cfg.interaction.bindings[it.key()] = it->get<std::string>();
+            out[it.key()] = it->get<std::string>();
         }
-    }
+    };
+    bindings("bindings", bindableActions(), "docs/window.md", cfg.interaction.bindings);
+    bindings("sketch_bindings", sketchBindableActions(), "docs/sketch-window.md",
+             cfg.interaction.sketchBindings);
     inter.rejectUnknown();
 
     Section rend = top.sub("render");
@@ -430,6 +435,16 @@ const std::vector<std::string>& bindableActions() {
     static const std::vector<std::string> a = {
         "cycle_tool", "step",   "zoom_in", "zoom_out", "overview", "undo",   "redo",  "quit",
         "size_1",     "size_2", "size_3",  "size_4",   "size_5",   "size_6", "size_7"};
+    return a;
+}
+
+const std::vector<std::string>& sketchBindableActions() {
+    static const std::vector<std::string> a = [] {
+        std::vector<std::string> names;
+        for (const auto& [action, key] : InteractionConfig{}.sketchBindings)
+            names.push_back(action);
+        return names;
+    }();
     return a;
 }
 
@@ -499,6 +514,7 @@ std::string configToJson(const SculptConfig& c) {
         if (!c.devices.match.empty()) j["devices"]["match"] = match;
     }
     j["interaction"] = {{"bindings", c.interaction.bindings},
+                        {"sketch_bindings", c.interaction.sketchBindings},
                         {"depth_step_over_diameter", c.interaction.depthStepOverDiameter},
                         {"rotate_rad_per_pixel", c.interaction.rotateRadPerPixel}};
     j["polygonizer"] = {{"grid_n", c.polygonizer.gridN},

@@ -129,6 +129,31 @@ TEST(SketchWindow, HeadsetWindowShowsTheSolidInStereo) {
     std::filesystem::remove(script);
 }
 
+// The sketch window's keys come from the config; a key bound twice is refused with the file
+// and the binding, before any window opens.
+TEST(SketchWindow, SketchKeysAreConfiguredAndCheckedForClashes) {
+    const std::filesystem::path cfg = std::filesystem::temp_directory_path() /
+                                      ("vsculpt-keys-" + std::to_string(::getpid()) + ".json");
+    std::ofstream(cfg) << R"({"interaction": {"sketch_bindings": {"lasso": "I"}}})";
+    app::SketchWindowOptions o;
+    o.configPath = cfg.string();
+    o.frames = 2;
+    o.hidden = true;
+    o.devices = false;
+    std::ostringstream out, err;
+    EXPECT_EQ(app::runSketchWindow(o, out, err), 2);
+    EXPECT_NE(err.str().find(cfg.string() + ": interaction.sketch_bindings.solid_inflate: key "
+                                            "'I' is already bound to lasso"),
+              std::string::npos)
+        << err.str();
+    // Moving inflate to another key resolves it.
+    std::ofstream(cfg)
+        << R"({"interaction": {"sketch_bindings": {"lasso": "I", "solid_inflate": "Y"}}})";
+    std::ostringstream out2, err2;
+    EXPECT_EQ(app::runSketchWindow(o, out2, err2), 0) << err2.str();
+    std::filesystem::remove(cfg);
+}
+
 TEST(SketchWindow, BadScriptIsRefusedWithTheLine) {
     const std::filesystem::path script =
         std::filesystem::temp_directory_path() /

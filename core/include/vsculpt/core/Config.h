@@ -56,6 +56,8 @@ struct PolygonizerConfig {
 
 /// Actions of the window's keyboard, in configs/sculpt.json "interaction.bindings".
 const std::vector<std::string>& bindableActions();
+/// Actions of the sketch window's keyboard, "interaction.sketch_bindings" (docs/sketch-window.md).
+const std::vector<std::string>& sketchBindableActions();
 
 struct InteractionConfig {
     /// action -> key name (GLFW names without the GLFW_KEY_ prefix: "TAB", "SPACE", "Z", "1").
@@ -64,6 +66,44 @@ struct InteractionConfig {
         {"overview", "O"},     {"undo", "U"},     {"redo", "R"},    {"quit", "ESCAPE"},
         {"size_1", "1"},       {"size_2", "2"},   {"size_3", "3"},  {"size_4", "4"},
         {"size_5", "5"},       {"size_6", "6"},   {"size_7", "7"}};
+    /// The sketch window's keys, action -> key name (the same names).
+    std::map<std::string, std::string> sketchBindings{{"undo", "U"},
+                                                      {"redo", "R"},
+                                                      {"quit", "ESCAPE"},
+                                                      {"mode", "TAB"},
+                                                      {"kind_line", "L"},
+                                                      {"kind_curve", "C"},
+                                                      {"end_group", "ENTER"},
+                                                      {"role_outline", "O"},
+                                                      {"role_surface_x", "1"},
+                                                      {"role_surface_y", "2"},
+                                                      {"role_surface_z", "3"},
+                                                      {"role_sweep_section", "S"},
+                                                      {"role_sweep_path", "P"},
+                                                      {"role_cut", "X"},
+                                                      {"role_extrude", "E"},
+                                                      {"solid_inflate", "I"},
+                                                      {"solid_three_section", "T"},
+                                                      {"solid_sweep", "W"},
+                                                      {"solid_cut", "K"},
+                                                      {"solid_extrude", "J"},
+                                                      {"lasso", "A"},
+                                                      {"delete", "DELETE"},
+                                                      {"move_left", "LEFT"},
+                                                      {"move_right", "RIGHT"},
+                                                      {"move_up", "UP"},
+                                                      {"move_down", "DOWN"},
+                                                      {"scale_down", "MINUS"},
+                                                      {"scale_up", "EQUAL"},
+                                                      {"page_previous", "PAGE_UP"},
+                                                      {"page_next", "PAGE_DOWN"},
+                                                      {"page_new", "N"},
+                                                      {"view_front", "F1"},
+                                                      {"view_side", "F2"},
+                                                      {"view_top", "F3"},
+                                                      {"frame", "HOME"},
+                                                      {"history", "H"},
+                                                      {"reuse", "G"}};
     double depthStepOverDiameter = 0.25;  ///< scroll notch moves the tool by this x D
     double rotateRadPerPixel = 0.01;      ///< right-drag turns the object by this per pixel
 };

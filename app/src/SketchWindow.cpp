@@ -195,6 +195,8 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
                 return 2;
             }
         }
+        for (const auto& [at, ev] : o.injectedEvents)
+            if (at == frame) viewer->injectEvent(ev);
         for (const render::InputEvent& ev : viewer->pollEvents()) {
             using K = render::InputEvent::Kind;
             const bool overCanvas = cursorX < canvasW;

@@ -158,6 +158,10 @@ Viewer::~Viewer() {
     }
 }
 
+void Viewer::injectEvent(const InputEvent& event) {
+    mImpl->events.push_back(event);
+}
+
 std::vector<InputEvent> Viewer::pollEvents() {
     glfwPollEvents();
     if (glfwWindowShouldClose(mImpl->window.get())) {

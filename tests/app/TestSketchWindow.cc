@@ -7,6 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>  // key and button codes
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -152,6 +155,59 @@ TEST(SketchWindow, SketchKeysAreConfiguredAndCheckedForClashes) {
     std::ostringstream out2, err2;
     EXPECT_EQ(app::runSketchWindow(o, out2, err2), 0) << err2.str();
     std::filesystem::remove(cfg);
+}
+
+// The window's own input path, driven by events as the mouse and keyboard deliver them: a loop
+// drawn with the left button on the canvas, the outline key, the inflate key; then a stroke
+// across the 3D view drawn on the model, and undo by key.
+TEST(SketchWindow, MouseDrawingAndKeysMakeASolid) {
+    using E = render::InputEvent;
+    app::SketchWindowOptions o;
+    o.width = 1280;
+    o.height = 720;
+    o.hidden = true;
+    o.devices = false;
+    std::vector<std::pair<size_t, E>> ev;
+    size_t f = 2;
+    // A loop of radius 100 px around the canvas centre (320, 360): 25 mm at 4 px/mm.
+    auto at = [](int i) {
+        const double a = 2 * M_PI * i / 64;
+        return std::make_pair(320 + 100 * std::cos(a), 360 + 100 * std::sin(a));
+    };
+    ev.push_back({f++, E{E::Kind::Cursor, 0, false, at(0).first, at(0).second}});
+    ev.push_back({f++, E{E::Kind::MouseButton, GLFW_MOUSE_BUTTON_LEFT, true, 0, 0}});
+    for (int i = 1; i <= 64; ++i)
+        ev.push_back({f++, E{E::Kind::Cursor, 0, false, at(i).first, at(i).second}});
+    ev.push_back({f++, E{E::Kind::MouseButton, GLFW_MOUSE_BUTTON_LEFT, false, 0, 0}});
+    ev.push_back({f++, E{E::Kind::Key, GLFW_KEY_O, true, 0, 0}});  // role outline
+    ev.push_back({f++, E{E::Kind::Key, GLFW_KEY_I, true, 0, 0}});  // inflate
+    // Over the 3D view (x >= 640): a horizontal stroke through its middle, on the model.
+    ev.push_back({f++, E{E::Kind::Cursor, 0, false, 700, 360}});
+    ev.push_back({f++, E{E::Kind::MouseButton, GLFW_MOUSE_BUTTON_LEFT, true, 0, 0}});
+    for (int x = 720; x <= 1220; x += 20)
+        ev.push_back({f++, E{E::Kind::Cursor, 0, false, double(x), 360}});
+    ev.push_back({f++, E{E::Kind::MouseButton, GLFW_MOUSE_BUTTON_LEFT, false, 0, 0}});
+    o.injectedEvents = ev;
+    o.frames = int(f + 2);
+    render::Image img;
+    o.lastFrame = &img;
+    std::ostringstream out, err;
+    ASSERT_EQ(app::runSketchWindow(o, out, err), 0) << err.str();
+    // stroke, role, solid, line on the model
+    EXPECT_NE(out.str().find("1 page(s), 4 step(s)"), std::string::npos) << out.str() << err.str();
+    size_t line = 0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 640; x < img.width; ++x)
+            line += reddish(img.pixel(x, y));
+    EXPECT_GT(line, 50u);  // the surface line shows in the 3D view
+
+    // The same, then the undo key twice: the line and the solid are gone again.
+    o.injectedEvents.push_back({f, E{E::Kind::Key, GLFW_KEY_U, true, 0, 0}});
+    o.injectedEvents.push_back({f + 1, E{E::Kind::Key, GLFW_KEY_U, true, 0, 0}});
+    o.frames = int(f + 4);
+    std::ostringstream out2, err2;
+    ASSERT_EQ(app::runSketchWindow(o, out2, err2), 0) << err2.str();
+    EXPECT_NE(out2.str().find("1 page(s), 2 step(s)"), std::string::npos) << out2.str();
 }
 
 TEST(SketchWindow, BadScriptIsRefusedWithTheLine) {

@@ -6,9 +6,12 @@
 #pragma once
 
 #include "vsculpt/render/Shot.h"
+#include "vsculpt/render/Viewer.h"
 
 #include <ostream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace vsculpt::app {
 
@@ -27,6 +30,9 @@ struct SketchWindowOptions {
     /// Tests: receives a copy of the last frame when not null.
     render::Image* lastFrame = nullptr;
     render::Image* lastHeadsetFrame = nullptr;  ///< the same for the headset window
+    /// Tests: input events delivered at the given frame (0-based), as if from the mouse,
+    /// keyboard or window system, through the window's real input handling.
+    std::vector<std::pair<size_t, render::InputEvent>> injectedEvents;
 };
 
 /// Exit code 0; 1 when no window can be opened (the message says why and points to

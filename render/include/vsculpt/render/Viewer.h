@@ -67,6 +67,9 @@ class Viewer {
     /// Events since the last call (polls the window system).
     std::vector<InputEvent> pollEvents();
     void setTitle(const std::string& title);
+    /// Queues an event as if the window system had delivered it (tests and demos drive the
+    /// application's real input handling this way); the next pollEvents() returns it.
+    void injectEvent(const InputEvent& event);
     int width() const;
     int height() const;
 

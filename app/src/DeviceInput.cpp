@@ -204,6 +204,27 @@ struct DeviceInput::State {
         }
     }
 
+    // Pen tablets drive the sketch canvas, not the sculpting tool: samples are queued for the
+    // sketch window (takePenSamples).
+    void tabletReport(const devices::DeviceRule& r, const DeviceEvent& e, DeviceCounters& n) {
+        std::optional<devices::PenSample> s;
+        auto it = tablets.find(r.name);
+        if (it != tablets.end()) {
+            Tablet& t = it->second;
+            if (r.driver == DeviceDriver::WacomLegacy && t.model)
+                s = devices::decodeWacomLegacyReport(e.bytes, *t.model, t.pen, e.timeNs);
+            else if (r.driver == DeviceDriver::HidDigitizer && t.digitizer)
+                s = t.digitizer->decode(e.bytes, e.timeNs);
+        }
+        // No arrival seen, a model we do not know, no usable descriptor, or undecodable.
+        if (!s) {
+            ++n.decodeErrors;
+            return;
+        }
+        ++n.samples;
+        penSamples.push_back(*s);
+    }
+
     void keepAlive(const devices::DeviceRule& r, Headset& h) {
         if (h.identity && h.identity->model == devices::RiftModel::Dk1) {
             const auto k = devices::buildRiftDk1KeepAlive(h.commandId++);
@@ -400,40 +421,10 @@ void DeviceInput::handle(const DeviceEvent& e) {
         case DeviceDriver::RiftImu:
             mState->headsetReport(*r, e, n);
             break;
-        case DeviceDriver::WacomLegacy: {
-            // Pen tablets drive the sketch canvas, not the sculpting tool: samples are queued
-            // for the sketch window (takePenSamples).
-            auto it = mState->tablets.find(r->name);
-            if (it == mState->tablets.end() || !it->second.model) {
-                ++n.decodeErrors;  // no arrival seen, or a model we do not know
-                break;
-            }
-            devices::DecodeStatus status = devices::DecodeStatus::Ok;
-            const auto s = devices::decodeWacomLegacyReport(e.bytes, *it->second.model,
-                                                            it->second.pen, e.timeNs, &status);
-            if (!s) {
-                ++n.decodeErrors;
-                break;
-            }
-            ++n.samples;
-            mState->penSamples.push_back(*s);
+        case DeviceDriver::WacomLegacy:
+        case DeviceDriver::HidDigitizer:
+            mState->tabletReport(*r, e, n);
             break;
-        }
-        case DeviceDriver::HidDigitizer: {
-            auto it = mState->tablets.find(r->name);
-            if (it == mState->tablets.end() || !it->second.digitizer) {
-                ++n.decodeErrors;  // no usable report descriptor arrived with the device
-                break;
-            }
-            const auto s = it->second.digitizer->decode(e.bytes, e.timeNs);
-            if (!s) {
-                ++n.decodeErrors;
-                break;
-            }
-            ++n.samples;
-            mState->penSamples.push_back(*s);
-            break;
-        }
     }
 }
 

@@ -2,7 +2,9 @@
 // Shared fixtures of the app tests: a small, quick config and a temporary folder.
 #pragma once
 
+#include "vsculpt/app/Session.h"
 #include "vsculpt/core/Config.h"
+#include "vsculpt/core/Mesh.h"
 
 #include <unistd.h>
 
@@ -18,6 +20,11 @@ inline core::SculptConfig smallConfig(double sphereRadiusMm = 30) {
     cfg.sphereRadiusMm = sphereRadiusMm;
     cfg.polygonizer.gridN = 64;
     return cfg;
+}
+
+/// The canonical hash of the mesh on show.
+inline uint64_t viewHash(const app::Session& s) {
+    return core::canonicalMeshHash(s.view().mesh());
 }
 
 /// A temporary folder removed at the end of the test.

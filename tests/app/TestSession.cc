@@ -18,9 +18,7 @@ namespace {
 using test::smallConfig;
 using test::TempDir;
 
-uint64_t viewHash(const Session& s) {
-    return core::canonicalMeshHash(s.view().mesh());
-}
+using test::viewHash;
 
 void sculptSome(Session& s, int strokes, unsigned seed) {
     std::mt19937 rng(seed);

@@ -21,9 +21,7 @@ namespace {
 using test::smallConfig;
 using test::TempDir;
 
-uint64_t viewHash(const Session& s) {
-    return core::canonicalMeshHash(s.view().mesh());
-}
+using test::viewHash;
 
 // A solid that overlaps the initial sphere (radius 30) and reaches out of it.
 core::Mesh armSolid() {

@@ -15,6 +15,18 @@ double signedArea(const Polyline2& polygon) {
     return 0.5 * twiceArea;
 }
 
+glm::dvec2 areaCentroid(const Polyline2& polygon) {
+    glm::dvec2 sum(0.0);
+    double twiceArea = 0;
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+        const glm::dvec2 p = polygon[i], q = polygon[(i + 1) % polygon.size()];
+        const double c = p.x * q.y - q.x * p.y;
+        twiceArea += c;
+        sum += (p + q) * c;
+    }
+    return sum / (3.0 * twiceArea);
+}
+
 namespace {
 template <typename Points>
 double polylineLength(const Points& line, bool closed) {

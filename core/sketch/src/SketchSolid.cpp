@@ -323,15 +323,7 @@ PolyMesh sweepSectionAlongPath(const Polyline2& section, const Polyline2& path,
     } catch (const std::invalid_argument& e) {
         sweepFail(std::string("sweep section: ") + e.what());
     }
-    glm::dvec2 centroid(0.0);
-    double area2 = 0;
-    for (std::size_t i = 0; i < ring.size(); ++i) {
-        const glm::dvec2 a = ring[i], b = ring[(i + 1) % ring.size()];
-        const double c = a.x * b.y - b.x * a.y;
-        area2 += c;
-        centroid += (a + b) * c;
-    }
-    centroid /= 3 * area2;
+    const glm::dvec2 centroid = areaCentroid(ring);
     Polyline2 offsets;
     double sectionRadius = 0;
     for (const glm::dvec2& q : ring) {

@@ -14,18 +14,6 @@ namespace {
 
 constexpr double kTwoPi = 2 * std::numbers::pi;
 
-glm::dvec2 areaCentroid(const Polyline2& polygon) {
-    glm::dvec2 sum(0.0);
-    double twiceArea = 0;
-    for (std::size_t i = 0; i < polygon.size(); ++i) {
-        const glm::dvec2 p = polygon[i], q = polygon[(i + 1) % polygon.size()];
-        const double c = p.x * q.y - q.x * p.y;
-        twiceArea += c;
-        sum += (p + q) * c;
-    }
-    return sum / (3.0 * twiceArea);
-}
-
 // Angle of b relative to a, in [0, 2π).
 double ccwFrom(double a, double b) {
     double d = std::fmod(b - a, kTwoPi);

@@ -14,6 +14,8 @@ using Polyline3 = std::vector<glm::dvec3>;
 
 // Signed area of a closed polygon (last point joins the first); positive counter-clockwise.
 double signedArea(const Polyline2& polygon);
+// Centroid of the area a closed polygon encloses. @pre signedArea(polygon) != 0.
+glm::dvec2 areaCentroid(const Polyline2& polygon);
 
 // Length of the polyline; closed adds the segment from the last point back to the first.
 double length(const Polyline2& line, bool closed);

@@ -49,6 +49,12 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     cli.add_flag("--hidden", window.hidden, "Do not show the window (automated runs)");
     cli.add_flag("!--no-devices", window.devices,
                  "Do not open trackers, 3D mice or headsets (mouse and keyboard only)");
+    cli.add_option("--project", window.projectDir,
+                   "Project folder for the window: opened (and recovered) if it exists, created "
+                   "otherwise. Default: the last project, or a new autosave project under "
+                   "$XDG_DATA_HOME/vsculpt/autosave; every step is journaled as it is made");
+    cli.add_flag("--no-project", window.noProject,
+                 "A scratch session: nothing is saved (the window's work is lost on exit)");
     CLI::App* infoCmd = cli.add_subcommand(
         "info", "Print the initial sculpture's summary: tool levels, calibration, mesh");
 
@@ -105,7 +111,10 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         "solids in it (docs/sketch-mode.md)");
     sketchCmd->add_option("--project", sketchOpts.projectDir,
                           "Project folder: opened if it exists, created otherwise; every "
-                          "sketch and sculpt step is saved as it is made");
+                          "sketch and sculpt step is saved as it is made. Default: the last "
+                          "project, or a new autosave project");
+    sketchCmd->add_flag("--no-project", sketchOpts.noProject,
+                        "A scratch session: nothing is saved");
     sketchCmd->add_option("--play", sketchOpts.playScript,
                           "Run a playback script (sketch commands too) in the window, a command "
                           "per frame");
@@ -123,7 +132,10 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     RenderOptions still;
     CLI::App* renderCmd = cli.add_subcommand(
         "render", "Ray-trace a still of a script's or a project's sculpture (Embree)");
-    renderCmd->add_option("INPUT", still.input, "Playback script or project folder")->required();
+    renderCmd
+        ->add_option("INPUT", still.input,
+                     "Playback script or project folder (opened read-only: never changed)")
+        ->required();
     renderCmd->add_option("--out", still.outPath, "PNG to write")->required();
     renderCmd->add_option("--size", still.size, "Image size WIDTHxHEIGHT")->capture_default_str();
     renderCmd->add_option("--samples", still.samples, "Ambient-occlusion rays per pixel")

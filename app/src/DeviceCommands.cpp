@@ -2,9 +2,9 @@
 #include "vsculpt/app/DeviceCommands.h"
 
 #include "vsculpt/app/DeviceInput.h"
-#include "vsculpt/app/Interaction.h"
+#include "vsculpt/studio/Interaction.h"
 #include "vsculpt/app/LiveDevices.h"
-#include "vsculpt/app/Session.h"
+#include "vsculpt/studio/Session.h"
 #include "vsculpt/core/Config.h"
 #include "vsculpt/core/Mesh.h"
 #include "vsculpt/devices/HidrawTransport.h"
@@ -23,6 +23,8 @@
 #include <thread>
 
 namespace vsculpt::app {
+
+using namespace vsculpt::studio;
 
 namespace {
 
@@ -150,10 +152,10 @@ int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
         err << "vsculpt record: error: " << e.what() << "\n";
         return 2;
     }
-    Session session(cfg);
-    Interaction interaction(session);
+    Studio studio(cfg);
+    Interaction interaction(studio);
     LiveDevices live(cfg.devices, err);
-    DeviceInput input(cfg.devices, live.rules(), interaction, session);
+    DeviceInput input(cfg.devices, live.rules(), interaction, studio);
 
     gStop = false;
     auto previousInt = std::signal(SIGINT, onSignal);
@@ -199,8 +201,8 @@ int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
     }
     std::signal(SIGINT, previousInt);
     std::signal(SIGTERM, previousTerm);
-    session.endStroke();
-    const core::Mesh mesh = session.wholeMesh();
+    studio.endStroke();
+    const core::Mesh mesh = studio.session().wholeMesh();
     char hash[17];
     std::snprintf(hash, sizeof hash, "%016llx",
                   static_cast<unsigned long long>(core::canonicalMeshHash(mesh)));

@@ -19,6 +19,8 @@
 
 namespace vsculpt::app {
 
+using namespace vsculpt::studio;
+
 using devices::DeviceDriver;
 using devices::DeviceEvent;
 using devices::DeviceEventKind;
@@ -93,7 +95,8 @@ struct DeviceInput::State {
     std::map<std::string, Tablet> tablets;
     std::vector<devices::PenSample> penSamples;
     Interaction& interaction;
-    Session& session;
+    studio::Studio& studio;
+    const studio::Session& session;
     core::RigidTransform worldFromTracker;
     std::map<std::string, Mouse> mice;
     std::map<std::string, Tracker> trackers;
@@ -103,8 +106,8 @@ struct DeviceInput::State {
     std::vector<DeviceOutput> output;
 
     State(const core::DevicesConfig& c, std::vector<devices::DeviceRule> r, Interaction& i,
-          Session& s)
-        : cfg(c), rules(std::move(r)), interaction(i), session(s), head(headCalibration(c)) {
+          studio::Studio& s)
+        : cfg(c), rules(std::move(r)), interaction(i), studio(s), session(s.session()), head(headCalibration(c)) {
         worldFromTracker.rotation = eulerDegrees(c.worldFromTrackerRotationDeg);
         worldFromTracker.translation = c.worldFromTrackerTranslationMm;
     }
@@ -141,7 +144,7 @@ struct DeviceInput::State {
     // A pen that leaves or stalls must not leave a stroke open: the edit so far is kept as
     // one undo step, as if the pen had been lifted.
     void liftPen() {
-        if (session.inStroke()) session.endStroke();
+        if (session.inStroke()) studio.endStroke();
         interaction.setEngaged(false);
     }
 
@@ -308,7 +311,7 @@ struct DeviceInput::State {
             // Turn about the object's own centre, about world axes (what the hand does).
             pose.rotation = glm::normalize(glm::angleAxis(angle, w / speed) * pose.rotation);
         }
-        session.setObjectPose(pose);
+        studio.setObjectPose(pose);
     }
 
     void trackerReport(const devices::DeviceRule& r, const DeviceEvent& e, DeviceCounters& n) {
@@ -328,7 +331,7 @@ struct DeviceInput::State {
                     t.stationFromObject = worldFromStation.inverse() * session.objectPose();
                 // Pen samples use the pose current at their time, so sculpting while turning
                 // leaves material where the tool touched.
-                session.setObjectPose(worldFromStation * *t.stationFromObject);
+                studio.setObjectPose(worldFromStation * *t.stationFromObject);
                 ++n.samples;
                 continue;
             }
@@ -359,8 +362,9 @@ struct DeviceInput::State {
                 interaction.setEngaged((s.buttons & 1u) != 0);
             try {
                 interaction.moveTool(world);
-            } catch (const std::exception&) {
+            } catch (const studio::SessionError&) {
                 // The lattices refused the point: the stroke was cancelled by the session.
+                // (An invariant failure, std::logic_error, is a bug and is not counted.)
                 ++n.rejectedEdits;
             }
         }
@@ -386,8 +390,8 @@ struct DeviceInput::State {
 };
 
 DeviceInput::DeviceInput(const core::DevicesConfig& cfg, std::vector<devices::DeviceRule> rules,
-                         Interaction& interaction, Session& session)
-    : mState(std::make_unique<State>(cfg, std::move(rules), interaction, session)) {}
+                         Interaction& interaction, studio::Studio& studio)
+    : mState(std::make_unique<State>(cfg, std::move(rules), interaction, studio)) {}
 
 DeviceInput::~DeviceInput() = default;
 

@@ -1,10 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/app/Play.h"
 
-#include "vsculpt/app/DeviceInput.h"
-#include "vsculpt/app/Interaction.h"
-#include "vsculpt/app/Session.h"
-#include "vsculpt/app/Studio.h"
+#include "vsculpt/app/Rig.h"
+#include "vsculpt/core/WriteFileAtomically.h"
 #include "vsculpt/core/ExportDxf.h"
 #include "vsculpt/core/ExportMesh.h"
 #include "vsculpt/devices/Recording.h"
@@ -24,6 +22,8 @@
 #include <ostream>
 
 namespace vsculpt::app {
+
+using namespace vsculpt::studio;
 
 using namespace vsculpt::core;
 
@@ -196,43 +196,45 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
         threads = std::make_unique<tbb::global_control>(
             tbb::global_control::max_allowed_parallelism, size_t(o.threads));
 
-    std::unique_ptr<Session> session;
-    try {
-        if (o.projectDir.empty()) {
-            session = std::make_unique<Session>(cfg);
-        } else {
-            if (!o.configPath.empty() && std::filesystem::exists(core::snapshotPath(o.projectDir)))
-                err << "vsculpt play: note: " << o.projectDir
-                    << " is an existing project: its stored config is used, --config is "
-                       "ignored\n";
-            session = Session::openProject(o.projectDir, cfg);
+    // Outputs are checked before the session runs: a typo in a folder name must not cost
+    // the whole run.
+    {
+        std::vector<std::string> written = o.outputs;
+        if (!o.shotPath.empty()) written.push_back(o.shotPath);
+        if (!o.statsPath.empty() && o.statsPath != "-") written.push_back(o.statsPath);
+        for (const std::string& path : written) {
+            try {
+                core::ensureWritable(path);
+            } catch (const std::exception& e) {
+                err << "vsculpt play: error: " << e.what() << "\n";
+                return 2;
+            }
         }
+    }
+
+    RigOptions ro;
+    ro.project = o.projectDir.empty() ? ProjectChoice::None : ProjectChoice::Given;
+    ro.projectDir = o.projectDir;
+    ro.who = "vsculpt play";
+    std::unique_ptr<Rig> rig;
+    try {
+        rig = std::make_unique<Rig>(cfg, ro, err);
     } catch (const std::exception& e) {
         err << "vsculpt play: error: " << e.what() << "\n";
         return 2;
     }
+    Studio& studio = rig->studio();
+    const Session* session = &studio.session();
     if (!session->recoveryWarning().empty())
         err << "vsculpt play: warning: " << session->recoveryWarning() << "\n";
     if (session->recoveredEdits() > 0)
         err << "vsculpt play: recovered " << session->recoveredEdits()
             << " edit(s) from the project journal\n";
 
-    std::unique_ptr<Studio> studioPtr;
-    try {
-        studioPtr = std::make_unique<Studio>(*session);
-    } catch (const std::exception& e) {
-        err << "vsculpt play: error: " << e.what() << "\n";
-        return 2;
-    }
-    Studio& studio = *studioPtr;
-
     std::string deviceSummary;
     if (recording) {
         // Device replay: the same decoders and mapping as a live run, event by event.
-        Interaction interaction(*session);
-        std::vector<devices::DeviceRule> rules = recording->devices;
-        const core::DevicesConfig& dc = cfg.devices;
-        DeviceInput input(dc, rules, interaction, *session);
+        DeviceInput& input = rig->replayDevices(recording->devices);
         Progress progress(err, o.progress && ::isatty(2), recording->events.size());
         size_t done = 0;
         for (const devices::DeviceEvent& e : recording->events) {
@@ -249,7 +251,7 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
             ++done;
             progress.update(done, static_cast<int>(done));
         }
-        session->endStroke();
+        studio.endStroke();
         input.takeOutput();
         deviceSummary = input.summary();
     }
@@ -285,7 +287,7 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
     }
 
     try {
-        if (!o.projectDir.empty()) session->save();
+        if (!o.projectDir.empty()) studio.save();
         const double spacing = o.exportSpacingMm > 0
                                    ? o.exportSpacingMm
                                    : zoomSpacing(cfg, session->sculpture().levels(), 1);

@@ -1,8 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/app/RenderStill.h"
 
-#include "vsculpt/app/Session.h"
-#include "vsculpt/app/Studio.h"
+#include "vsculpt/app/Rig.h"
 #include "vsculpt/render/RayTrace.h"
 
 #include <chrono>
@@ -12,6 +11,8 @@
 
 namespace vsculpt::app {
 
+using namespace vsculpt::studio;
+
 int runRenderStill(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     int w = 0, h = 0;
     char x = 0;
@@ -19,24 +20,31 @@ int runRenderStill(const RenderOptions& o, std::ostream& out, std::ostream& err)
         err << "vsculpt render: error: --size must be WIDTHxHEIGHT, got '" << o.size << "'\n";
         return 2;
     }
-    std::unique_ptr<Session> session;
+    std::unique_ptr<Studio> studio;
     try {
         if (std::filesystem::is_directory(o.input)) {
-            if (!std::filesystem::exists(core::snapshotPath(o.input))) {
-                err << "vsculpt render: error: " << o.input << ": not a vsculpt project\n";
-                return 2;
-            }
-            session = Session::openProject(o.input, core::SculptConfig{});
+            // Read-only: a still never changes the project (no journal truncation, no lock
+            // file), works on read-only media and beside a window that has it open.
+            studio = Studio::openProject(
+                o.input,
+                core::loadConfig(o.configPath.empty() ? core::defaultConfigPath()
+                                                      : std::filesystem::path(o.configPath)),
+                ProjectMode::ReadOnly);
+            if (!studio->session().recoveryWarning().empty())
+                err << "vsculpt render: warning: " << studio->session().recoveryWarning() << "\n";
         } else {
             const Script script = loadScript(o.input);
-            session = std::make_unique<Session>(
+            // Through a studio, so sketch commands build their solids here too.
+            studio = std::make_unique<Studio>(
                 core::loadConfig(o.configPath.empty() ? core::defaultConfigPath()
                                                       : std::filesystem::path(o.configPath)));
-            // Through a studio, so sketch commands build their solids here too.
-            Studio studio(*session);
+            studio->setSurfaceProjector(
+                [](const Session& s, const std::vector<glm::dvec2>& px, glm::ivec2 viewport) {
+                    return projectOnModel(s, px, frontCamera(s, viewport));
+                });
             for (const ScriptCommand& c : script.commands) {
                 try {
-                    studio.apply(c);
+                    studio->apply(c);
                 } catch (const std::exception& e) {
                     err << "vsculpt render: error: " << script.source << ":" << c.line << ": "
                         << e.what() << "\n";
@@ -48,6 +56,7 @@ int runRenderStill(const RenderOptions& o, std::ostream& out, std::ostream& err)
         err << "vsculpt render: error: " << e.what() << "\n";
         return 2;
     }
+    const Session* session = &studio->session();
     try {
         const auto t0 = std::chrono::steady_clock::now();
         const double spacing = o.spacingMm > 0

@@ -5,8 +5,10 @@
 
 namespace vsculpt::app {
 
-render::InkClass inkClass(const sketch::DrawItem& d) {
-    using R = sketch::Role;
+using namespace vsculpt::studio;
+
+render::InkClass inkClass(const studio::DrawItem& d) {
+    using R = studio::Role;
     switch (d.role) {
         case R::Outline:
             return render::InkClass::Outline;
@@ -24,23 +26,23 @@ render::InkClass inkClass(const sketch::DrawItem& d) {
             break;
     }
     switch (d.ink) {
-        case sketch::InkClass::Draft:
+        case studio::InkClass::Draft:
             return render::InkClass::Draft;
-        case sketch::InkClass::Selected:
+        case studio::InkClass::Selected:
             return render::InkClass::Selected;
-        case sketch::InkClass::Pending:
+        case studio::InkClass::Pending:
             return render::InkClass::Pending;
-        case sketch::InkClass::Consumed:
+        case studio::InkClass::Consumed:
             return render::InkClass::Consumed;
-        case sketch::InkClass::Clean:
+        case studio::InkClass::Clean:
             break;
     }
     return render::InkClass::Clean;
 }
 
-std::vector<render::InkStroke> inkOf(const sketch::SketchPage& page) {
+std::vector<render::InkStroke> inkOf(const studio::SketchPage& page) {
     std::vector<render::InkStroke> out;
-    for (const sketch::DrawItem& d : page.drawList()) {
+    for (const studio::DrawItem& d : page.drawList()) {
         if (d.points.empty()) continue;
         render::InkStroke s;
         s.pointsMm = d.points;
@@ -54,10 +56,10 @@ std::vector<render::InkStroke> inkOf(const sketch::SketchPage& page) {
 }
 
 // Strokes ever drawn that are not on the page now (undone or deleted), as drawn, faint.
-std::vector<render::InkStroke> historyInk(const sketch::SketchPage& page) {
+std::vector<render::InkStroke> historyInk(const studio::SketchPage& page) {
     std::vector<render::InkStroke> out;
-    for (const sketch::ArchivedStroke& a : page.history()) {
-        if (page.strokeStatus(a.id) == sketch::StrokeStatus::Live || a.stroke.samples.empty())
+    for (const studio::ArchivedStroke& a : page.history()) {
+        if (page.strokeStatus(a.id) == studio::StrokeStatus::Live || a.stroke.samples.empty())
             continue;
         render::InkStroke s;
         for (const sketch::StrokeSample& q : a.stroke.samples)
@@ -71,12 +73,12 @@ std::vector<render::InkStroke> historyInk(const sketch::SketchPage& page) {
 }
 
 // The undone or deleted stroke nearest to `p` (canvas mm) within `tolerance`.
-std::optional<int> nearestHistoryStroke(const sketch::SketchPage& page, glm::dvec2 p,
+std::optional<int> nearestHistoryStroke(const studio::SketchPage& page, glm::dvec2 p,
                                         double tolerance) {
     std::optional<int> best;
     double bestD = tolerance;
-    for (const sketch::ArchivedStroke& a : page.history()) {
-        if (page.strokeStatus(a.id) == sketch::StrokeStatus::Live) continue;
+    for (const studio::ArchivedStroke& a : page.history()) {
+        if (page.strokeStatus(a.id) == studio::StrokeStatus::Live) continue;
         for (const sketch::StrokeSample& q : a.stroke.samples) {
             const double d = glm::distance(q.position, p);
             if (d <= bestD) {

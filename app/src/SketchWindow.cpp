@@ -2,13 +2,10 @@
 #include "vsculpt/app/SketchWindow.h"
 
 #include "KeyNames.h"
-#include "vsculpt/app/DeviceInput.h"
-#include "vsculpt/app/Interaction.h"
-#include "vsculpt/app/LiveDevices.h"
-#include "vsculpt/app/Session.h"
+#include "vsculpt/app/Rig.h"
 #include "vsculpt/app/SketchInkList.h"
-#include "vsculpt/app/SketchSolids.h"
-#include "vsculpt/app/Studio.h"
+#include "vsculpt/studio/SketchSolids.h"
+#include "vsculpt/studio/Studio.h"
 #include "vsculpt/render/ProjectStroke.h"
 #include "vsculpt/render/SketchCanvas.h"
 #include "vsculpt/render/Viewer.h"
@@ -26,6 +23,8 @@
 
 namespace vsculpt::app {
 
+using namespace vsculpt::studio;
+
 namespace {
 
 // Screen millimetres per pixel of the canvas (about 100 dpi): view mm are what the designer
@@ -33,7 +32,7 @@ namespace {
 constexpr double kPxPerMm = 4.0;
 
 // The page's view (canvas = scale * view + offset) as the renderer takes it.
-render::CanvasView canvasView(const sketch::CanvasView& v, glm::ivec2 px) {
+render::CanvasView canvasView(const studio::CanvasView& v, glm::ivec2 px) {
     render::CanvasView r;
     r.panMm = v.offset;
     r.zoom = 1.0 / v.scale;
@@ -71,17 +70,23 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
                "sketch commands (docs/playback.md)\n";
         return 1;
     }
-    std::unique_ptr<Session> session;
-    std::unique_ptr<Studio> studioPtr;
+    // The same studio, project and devices as every session (Rig.h): by default the last
+    // project or a new autosave project, every step saved as it is made.
+    RigOptions ro;
+    ro.project = o.noProject           ? ProjectChoice::None
+                 : o.projectDir.empty() ? ProjectChoice::Autosave
+                                        : ProjectChoice::Given;
+    ro.projectDir = o.projectDir;
+    ro.liveDevices = o.devices;
+    ro.who = "vsculpt sketch";
+    std::unique_ptr<Rig> rig;
     try {
-        session = o.projectDir.empty() ? std::make_unique<Session>(cfg)
-                                       : Session::openProject(o.projectDir, cfg);
-        studioPtr = std::make_unique<Studio>(*session);
+        rig = std::make_unique<Rig>(cfg, ro, err);
     } catch (const std::exception& e) {
         err << "vsculpt sketch: error: " << e.what() << "\n";
         return 2;
     }
-    Studio& studio = *studioPtr;
+    out << "vsculpt sketch: " << rig->projectSummary() << "\n";
     render::SketchCanvas canvas;
     // The headset sees the sculpture in stereo while the designer sketches on the desktop.
     std::unique_ptr<render::Viewer> headset;
@@ -100,13 +105,6 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
         }
         viewer->makeCurrent();
     }
-    Interaction ui(*session);
-    std::unique_ptr<LiveDevices> live;
-    std::unique_ptr<DeviceInput> devices;
-    if (o.devices) {
-        live = std::make_unique<LiveDevices>(cfg.devices, err);
-        devices = std::make_unique<DeviceInput>(cfg.devices, live->rules(), ui, *session);
-    }
 
     const auto start = std::chrono::steady_clock::now();
     auto now = [&] {
@@ -122,27 +120,32 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
     std::string message = "TAB mode, I inflate, U undo";
     size_t commandIndex = 0, frame = 0;
     bool running = true;
-    core::Aabb frameBox = core::meshBounds(session->view().mesh());
+    core::Aabb frameBox = core::meshBounds(rig->session().view().mesh());
 
     while (running) {
+        // Save as and new project replace the studio: fetched anew every frame.
+        Studio& studio = rig->studio();
+        const Session* session = &rig->session();
+        DeviceInput* devices = rig->devices();
+        bool switched = false;
         viewer->makeCurrent();
         const int W = viewer->width(), H = viewer->height();
         const int canvasW = W / 2;
         const glm::ivec2 canvasPx(canvasW, H);
         // Pages may be added (reallocated) by any command: always fetch the current one.
-        auto page = [&]() -> sketch::SketchPage& { return studio.page(); };
+        auto page = [&]() -> studio::SketchPage& { return studio.page(); };
         // A page first shown with the plain view gets the canvas origin in the middle, where
         // the object's origin is in the 3D view.
         // With ink on it, the page is framed instead (HOME does the same later).
-        auto centre = [&](sketch::SketchPage& p) {
+        auto centre = [&](studio::SketchPage& p) {
             const glm::dvec2 viewSize = glm::dvec2(canvasPx) / kPxPerMm;
             glm::dvec2 lo(1e300), hi(-1e300);
-            for (const sketch::DrawItem& d : p.drawList())
+            for (const studio::DrawItem& d : p.drawList())
                 for (const glm::dvec2& q : d.points) {
                     lo = glm::min(lo, q);
                     hi = glm::max(hi, q);
                 }
-            sketch::CanvasView v;
+            studio::CanvasView v;
             if (lo.x <= hi.x) {
                 lo = glm::min(lo, glm::dvec2(0.0));  // keep the origin in view too
                 hi = glm::max(hi, glm::dvec2(0.0));
@@ -154,13 +157,13 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
             }
             p.setView(v);
         };
-        if (page().view() == sketch::CanvasView{} && !page().penIsDown()) centre(page());
+        if (page().view() == studio::CanvasView{} && !page().penIsDown()) centre(page());
         // Window pixels (top-left origin) of the canvas -> view mm (lower-left origin, y up).
         auto viewMm = [&](double x, double y) {
             return glm::dvec2(x / kPxPerMm, (H - y) / kPxPerMm);
         };
         auto penSample = [&](double x, double y, std::optional<double> pressure) {
-            sketch::PenSample s;
+            studio::PenSample s;
             s.view = viewMm(x, y);
             s.pressure = pressure;
             s.time = now();
@@ -205,16 +208,27 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
                 auto bound = actionOfKey.find(ev.code);
                 const std::string action = bound == actionOfKey.end() ? "" : bound->second;
                 using V = SketchCommand::Verb;
+                if (switched) break;
                 if (action == "quit") {
                     running = false;
+                } else if (Rig::handles(action)) {
+                    act([&] {
+                        message = rig->projectAction(action);
+                        out << "vsculpt sketch: " << message << "\n";
+                        switched = action == "save_as" || action == "new_project";
+                    });
+                    if (switched) {
+                        drawing = modelDrawing = tabletTouching = false;
+                        lasso.clear();
+                    }
                 } else if (action == "undo") {
                     act([&] { studio.undo(); });
                 } else if (action == "redo") {
                     act([&] { studio.redo(); });
                 } else if (action == "mode") {
-                    page().setMode(page().mode() == sketch::SketchMode::Draft
-                                       ? sketch::SketchMode::Cleanup
-                                       : sketch::SketchMode::Draft);
+                    page().setMode(page().mode() == studio::SketchMode::Draft
+                                       ? studio::SketchMode::Cleanup
+                                       : studio::SketchMode::Draft);
                 } else if (action == "kind_line" || action == "kind_curve") {
                     page().setKind(action == "kind_line" ? sketch::StrokeKind::Line
                                                          : sketch::StrokeKind::Curve);
@@ -318,12 +332,11 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
                         modelStroke = {glm::dvec2(cursorX - canvasW, cursorY)};
                     } else if (!modelStroke.empty()) {
                         act([&] {
-                            const core::RigidTransform& pose = session->objectPose();
-                            glm::dmat4 worldFromObject = glm::mat4_cast(pose.rotation);
-                            worldFromObject[3] = glm::dvec4(pose.translation, 1.0);
                             const auto camera = render::ProjectionCamera::fromEye(
-                                viewer->monoEye(), worldFromObject, glm::ivec2(W - canvasW, H));
-                            const size_t n = studio.drawOnModel(modelStroke, camera);
+                                viewer->monoEye(), session->objectPose().matrix(),
+                                glm::ivec2(W - canvasW, H));
+                            const size_t n = studio.addSurfaceLines(
+                                projectOnModel(*session, modelStroke, camera));
                             message = std::to_string(n) + " surface line(s)";
                         });
                         modelStroke.clear();
@@ -354,26 +367,22 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
                     pose.rotation =
                         glm::normalize(glm::angleAxis(pitch, core::Vec3(1, 0, 0)) *
                                        glm::angleAxis(yaw, core::Vec3(0, 0, 1)) * pose.rotation);
-                    session->setObjectPose(pose);
+                    studio.setObjectPose(pose);
                 }
                 if (overCanvas && !drawing) page().hover(viewMm(cursorX, cursorY));
             }
             if (ev.kind == K::Scroll && overCanvas)
                 act([&] { page().zoomAbout(viewMm(cursorX, cursorY), std::pow(1.1, ev.y)); });
         }
-        if (live) {
-            try {
-                live->pump([&](const devices::DeviceEvent& e) { devices->handle(e); });
-                live->send(devices->takeOutput());
-            } catch (const std::exception& e) {
-                err << "vsculpt sketch: " << e.what() << "\n";
-            }
+        if (switched) continue;
+        if (devices) {
+            rig->pumpDevices(err);
             // The whole tablet maps onto the canvas; its pen draws with pressure.
             for (const devices::PenSample& s : devices->takePenSamples()) {
                 if (!s.hasPosition && s.inProximity) continue;
                 const double x = s.positionNormalized.x * canvasW;
                 const double y = s.positionNormalized.y * H;
-                sketch::PenSample ps = penSample(x, y, s.pressure);
+                studio::PenSample ps = penSample(x, y, s.pressure);
                 if (s.hasTilt)
                     ps.tiltDeg =
                         glm::clamp(glm::degrees(s.tiltRad), glm::dvec2(-90), glm::dvec2(90));
@@ -389,7 +398,6 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
         // The clean-up pause trigger runs on the wall clock.
         if (!page().penIsDown())
             act([&] { studio.sketchStep([&](auto& p) { p.advanceTime(now()); }); });
-        studio.syncSculptSteps();
 
         // The 3D view on the right, the canvas on the left.
         viewer->syncChunks(session->view());
@@ -399,9 +407,7 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
         }
         viewer->setViewArea(canvasW, W - canvasW);
         viewer->setSurfaceLines(studio.surfaceLines());
-        const core::RigidTransform& pose = session->objectPose();
-        glm::dmat4 worldFromObject = glm::mat4_cast(pose.rotation);
-        worldFromObject[3] = glm::dvec4(pose.translation, 1.0);
+        const glm::dmat4 worldFromObject = session->objectPose().matrix();
         render::ToolDraw tool;
         tool.visible = false;
         render::StereoDisplay display;
@@ -465,18 +471,18 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
                       "curve(s) · %zu step(s) · %s",
                       page().name().c_str(),
                       planeName(studio.plane(studio.document().currentIndex())),
-                      page().mode() == sketch::SketchMode::Draft ? "draft" : "clean-up",
-                      page().mode() == sketch::SketchMode::Draft
+                      page().mode() == studio::SketchMode::Draft ? "draft" : "clean-up",
+                      page().mode() == studio::SketchMode::Draft
                           ? ""
                           : (page().kind() == sketch::StrokeKind::Line ? " lines" : " curves"),
                       strokes, page().cleanCurves().size(), studio.stepCount(), message.c_str());
         viewer->setTitle(title);
         if (last) running = false;
     }
-    session->endStroke();
-    out << "vsculpt sketch: " << frame << " frame(s), " << studio.document().pageCount()
-        << " page(s), " << studio.stepCount() << " step(s), "
-        << session->sculpture().counts().total() << " skeletons\n";
+    rig->studio().endStroke();
+    out << "vsculpt sketch: " << frame << " frame(s), " << rig->studio().document().pageCount()
+        << " page(s), " << rig->studio().stepCount() << " step(s), "
+        << rig->session().sculpture().counts().total() << " skeletons\n";
     return 0;
 }
 

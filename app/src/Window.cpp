@@ -2,14 +2,10 @@
 #include "vsculpt/app/Window.h"
 
 #include "KeyNames.h"
-#include "vsculpt/app/DeviceInput.h"
-#include "vsculpt/app/Interaction.h"
-#include "vsculpt/app/LiveDevices.h"
-#include "vsculpt/app/Session.h"
-#include "vsculpt/app/Studio.h"
-#include "vsculpt/core/EvalField.h"
-#include "vsculpt/render/RayTrace.h"
+#include "vsculpt/app/Rig.h"
+#include "vsculpt/core/Project.h"
 #include "vsculpt/render/Viewer.h"
+#include "vsculpt/studio/PickTool.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>  // key and button codes only
@@ -24,6 +20,8 @@
 #include <ostream>
 
 namespace vsculpt::app {
+
+using namespace vsculpt::studio;
 
 using namespace vsculpt::core;
 
@@ -59,24 +57,32 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
         return 1;
     }
 
-    Session session(cfg);
-    Studio studio(session);  // scripts may hold sketch commands; undo spans both
-    Interaction ui(session);
-    // Trackers, 3D mice and headsets, when connected (docs/devices.md); the mouse and
-    // keyboard below work either way. The session's object pose is the one truth: the 3D
-    // mouse and mouse drags both change it, strokes are placed with it.
-    std::unique_ptr<LiveDevices> live;
-    std::unique_ptr<DeviceInput> devices;
-    if (o.devices) {
-        live = std::make_unique<LiveDevices>(cfg.devices, err);
-        devices = std::make_unique<DeviceInput>(cfg.devices, live->rules(), ui, session);
+    // The studio, its project and the devices, built as for every session (Rig.h). By
+    // default the window continues the last project, or starts a new autosave project, so
+    // work sculpted here is journaled as it is made and survives a crash.
+    RigOptions ro;
+    ro.project = o.noProject           ? ProjectChoice::None
+                 : o.projectDir.empty() ? ProjectChoice::Autosave
+                                        : ProjectChoice::Given;
+    ro.projectDir = o.projectDir;
+    ro.liveDevices = o.devices;
+    std::unique_ptr<Rig> rig;
+    try {
+        rig = std::make_unique<Rig>(cfg, ro, err);
+    } catch (const std::exception& e) {
+        err << "vsculpt: error: " << e.what() << "\n";
+        return 2;
     }
-    auto worldFromObjectMatrix = [&] {
-        const RigidTransform& p = session.objectPose();
-        glm::dmat4 m = glm::mat4_cast(p.rotation);
-        m[3] = glm::dvec4(p.translation, 1.0);
-        return m;
-    };
+    // Recovery is reported where the user looks: on the terminal and in the title bar.
+    out << "vsculpt: " << rig->projectSummary() << "\n";
+    std::string message = rig->session().recoveredEdits() > 0
+                              ? "recovered " + std::to_string(rig->session().recoveredEdits()) +
+                                    " edit(s); F8 starts a new project"
+                              : "";
+    // The rig's studio can change (save as, new project): these always fetch the current one.
+    auto studioNow = [&]() -> Studio& { return rig->studio(); };
+    auto sessionNow = [&]() -> const Session& { return rig->session(); };
+    auto worldFromObjectMatrix = [&] { return sessionNow().objectPose().matrix(); };
     glm::dmat4 worldFromObject = worldFromObjectMatrix();
     double cursorX = o.width / 2.0, cursorY = o.height / 2.0, lastX = cursorX, lastY = cursorY;
     bool rotating = false, moving = false;
@@ -94,26 +100,28 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
         err << "vsculpt: monitor " << cfg.render.fullscreenMonitor
             << " not found (render.fullscreen_monitor); staying in a window\n";
     // What the camera frames: the mesh on show, refreshed now and then (and on zoom).
-    Aabb frameBox = meshBounds(session.view().mesh());
-    int framedZoom = session.zoom();
+    Aabb frameBox = meshBounds(sessionNow().view().mesh());
+    int framedZoom = sessionNow().zoom();
 
     // The region to zoom into: the surface point under the pointer, picked with Embree on the
     // mesh on show (built only when a zoom is asked for); the tool centre when nothing is hit.
     auto zoomTarget = [&](const Vec3& fallback) {
-        const Mesh mesh = session.view().mesh();
-        if (mesh.triangleCount() == 0) return fallback;
         Vec3 origin, dir;
         viewer->pixelRay(cursorX, cursorY, origin, dir);
         const glm::dmat4 objectFromWorld = glm::inverse(worldFromObject);
-        const render::RayScene scene(mesh);
-        const auto hit = scene.intersect(Vec3(objectFromWorld * glm::dvec4(origin, 1)),
-                                         Vec3(objectFromWorld * glm::dvec4(dir, 0)));
-        return hit ? hit->position : fallback;
+        const ToolPick pick =
+            pickTool(sessionNow(), Vec3(objectFromWorld * glm::dvec4(origin, 1)),
+                     glm::normalize(Vec3(objectFromWorld * glm::dvec4(dir, 0))), 0, 0,
+                     Vec3(0, 0, -1));
+        return pick.surfaceHit ? *pick.surfaceHit : fallback;
     };
     std::vector<render::PaletteItem> palette;
     // Where the tool last was over the sculpture (not over the palette): palette zoom centre.
     Vec3 lastSculptPoint(0.0);
     while (running) {
+        Studio& studio = studioNow();
+        const Session& session = sessionNow();
+        Interaction& ui = rig->interaction();
         palette = render::layoutPalette(ui.offeredSizes(), session.size(), session.zoom());
         const auto t0 = std::chrono::steady_clock::now();
         // Scripted commands first (one per frame), then live input.
@@ -127,7 +135,9 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
             }
         }
         const ToolLevel& level = session.sculpture().levels().level(session.size());
+        bool switched = false;
         for (const render::InputEvent& ev : viewer->pollEvents()) {
+            if (switched) break;
             using K = render::InputEvent::Kind;
             const Vec3 toolObject = glm::inverse(worldFromObject) * glm::dvec4(toolWorld, 1);
             if (ev.kind == K::Close) running = false;
@@ -153,7 +163,17 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
                         studio.undo();
                     else if (a == "redo")
                         studio.redo();
+                    else if (Rig::handles(a)) {
+                        message = rig->projectAction(a);
+                        out << "vsculpt: " << message << "\n";
+                        // Save as and new project replace the studio: this frame's
+                        // references are gone, start the next frame with the new one.
+                        switched = a == "save_as" || a == "new_project";
+                    }
+                } catch (const std::logic_error&) {
+                    throw;  // a broken invariant: not a refused command
                 } catch (const std::exception& e) {
+                    message = e.what();
                     err << "vsculpt: " << e.what() << "\n";
                 }
             }
@@ -200,93 +220,56 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
                         pose.translation += Vec3((cursorX - lastX) * mmPerPixel, 0,
                                                  -(cursorY - lastY) * mmPerPixel);
                     }
-                    session.setObjectPose(pose);
+                    studio.setObjectPose(pose);
                 }
             }
             if (ev.kind == K::Scroll)
                 depthOffset += ev.y * cfg.interaction.depthStepOverDiameter * level.diameterMm;
         }
-        if (live) {
-            try {
-                live->pump([&](const devices::DeviceEvent& e) {
-                    if (e.kind == devices::DeviceEventKind::Arrived ||
-                        e.kind == devices::DeviceEventKind::Left)
-                        out << "vsculpt: " << e.device
-                            << (e.kind == devices::DeviceEventKind::Arrived ? " connected\n"
-                                                                            : " disconnected\n");
-                    devices->handle(e);
-                });
-                live->send(devices->takeOutput());
-            } catch (const std::exception& e) {
-                err << "vsculpt: " << e.what() << "\n";
-            }
-        }
+        if (switched) continue;
+        rig->pumpDevices(out);
         worldFromObject = worldFromObjectMatrix();
         // A tracker pen, when one reports, places the tool; the pointer does otherwise.
+        DeviceInput* devices = rig->devices();
         const std::optional<Vec3> penWorld = devices ? devices->toolWorld() : std::nullopt;
 
-        // The tool follows the surface under the pointer (plus the scroll depth): march the
-        // field along the pointer ray in object space.
+        // The tool follows the surface under the pointer (plus the scroll depth), touching
+        // it (PickTool.h); a tracked pen places it wherever the pen is.
         Vec3 origin, dir;
         viewer->pixelRay(cursorX, cursorY, origin, dir);
         const glm::dmat4 objectFromWorld = glm::inverse(worldFromObject);
         const Vec3 oObj = Vec3(objectFromWorld * glm::dvec4(origin, 1));
         const Vec3 dObj = glm::normalize(Vec3(objectFromWorld * glm::dvec4(dir, 0)));
-        FieldProbe probe(session.sculpture());
-        const Aabb box = session.view().region().box();
-        const double far = glm::length(box.max - box.min) * 1.5;
-        double hitT = -1;
-        const double step = 0.5 * session.view().region().spacingMm;
-        for (double t = 0; t < far; t += step)
-            if (probe.value(oObj + t * dObj) > 0) {
-                hitT = t;
-                break;
-            }
-        if (hitT < 0) hitT = glm::length(0.5 * (box.min + box.max) - oObj);
-        // The tool rests on the surface (touching it); the scroll wheel pushes it in or out.
+        const Vec3 downObj = glm::normalize(Vec3(objectFromWorld * glm::dvec4(0, 0, -1, 0)));
         const double toolRadius = 0.5 * level.diameterMm;
-        const Vec3 toolObject = oObj + (hitT - toolRadius + depthOffset) * dObj;
+        ToolPick pick = pickTool(session, oObj, dObj, toolRadius, depthOffset, downObj);
         {
             double nx = 0, ny = 0;
             viewer->pixelToEyeNdc(cursorX, cursorY, mode, nx, ny);
-            if (!render::pickPalette(palette, nx, ny)) lastSculptPoint = oObj + hitT * dObj;
+            if (!render::pickPalette(palette, nx, ny))
+                lastSculptPoint = pick.surfaceHit ? *pick.surfaceHit : pick.toolCentre;
         }
         if (penWorld) {
             toolWorld = *penWorld;  // DeviceInput already moved the tool with every sample
+            pick = toolCues(session, Vec3(objectFromWorld * glm::dvec4(toolWorld, 1)),
+                            toolRadius, downObj);
         } else {
-            toolWorld = Vec3(worldFromObject * glm::dvec4(toolObject, 1));
+            toolWorld = Vec3(worldFromObject * glm::dvec4(pick.toolCentre, 1));
             try {
                 ui.moveTool(toolWorld);
-            } catch (const std::exception& e) {
+            } catch (const SessionError& e) {
                 err << "vsculpt: " << e.what() << "\n";
             }
         }
-        const Vec3 toolInObject = Vec3(objectFromWorld * glm::dvec4(toolWorld, 1));
-        // Contact cue from the field at and around the tool.
         render::ToolDraw tool;
         tool.worldPos = toolWorld;
         tool.radiusMm = toolRadius;
         tool.selectBox = session.tool() == ToolKind::Select;
-        if (probe.value(toolInObject) > 0) {
-            tool.contact = 2;
-        } else {
-            for (const Vec3& d : {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0),
-                                  Vec3(0, 0, 1), Vec3(0, 0, -1)})
-                if (probe.value(toolInObject + d * tool.radiusMm) > 0) tool.contact = 1;
+        tool.contact = int(pick.contact);
+        if (pick.shadow) {
+            tool.shadow = true;
+            tool.shadowPos = Vec3(worldFromObject * glm::dvec4(*pick.shadow, 1));
         }
-
-        // Depth cue: the point of the surface straight below the tool (world -z).
-        {
-            const Vec3 down = glm::normalize(Vec3(objectFromWorld * glm::dvec4(0, 0, -1, 0)));
-            for (double t = 0; t < far; t += step) {
-                if (probe.value(toolInObject + t * down) > 0) {
-                    tool.shadow = true;
-                    tool.shadowPos = Vec3(worldFromObject * glm::dvec4(toolInObject + t * down, 1));
-                    break;
-                }
-            }
-        }
-        studio.syncSculptSteps();  // strokes made with the pointer or the pen join the timeline
         viewer->syncChunks(session.view());
         if (session.zoom() != framedZoom || frame % 30 == 29) {
             const Aabb b = meshBounds(session.view().mesh());
@@ -322,15 +305,18 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
         std::snprintf(
             title, sizeof title,
             "vsculpt — %s · size %d (%.1f mm) · zoom %d · %zu skeletons · %zu triangles · "
-            "%.1f ms/frame",
+            "%.1f ms/frame · %s%s%s",
             toolName(session.tool()), session.size(), level.diameterMm, session.zoom(),
-            session.sculpture().counts().total(), st.triangles, frameMs);
+            session.sculpture().counts().total(), st.triangles, frameMs,
+            session.projectDir() ? session.projectDir()->filename().c_str() : "no project",
+            message.empty() ? "" : " · ", message.c_str());
         viewer->setTitle(title);
         if (last) running = false;
     }
-    session.endStroke();
-    if (devices && !devices->counters().empty()) out << devices->summary();
-    out << "vsculpt: " << frame << " frame(s), " << session.sculpture().counts().total()
+    // Closing ends the stroke in flight: it is journaled like any other.
+    rig->studio().endStroke();
+    if (rig->devices() && !rig->devices()->counters().empty()) out << rig->devices()->summary();
+    out << "vsculpt: " << frame << " frame(s), " << rig->session().sculpture().counts().total()
         << " skeletons, last frame " << frameMs << " ms\n";
     return 0;
 }

@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 #include <unordered_map>
@@ -294,7 +295,10 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
     }
     for (size_t i = 0; i < chunkChanged.size(); ++i) {
         if (!chunkChanged[i]) continue;
-        ++mChunkVersions[i];
+        // Versions are unique across every polygonizer of the process: a renderer that sees
+        // a new polygonizer at a recycled address never mistakes its chunks for old ones.
+        static std::atomic<uint64_t> lastVersion{0};
+        mChunkVersions[i] = ++lastVersion;
         ++stats.chunksChanged;
         stats.changedChunks.push_back({int(i / (size_t(c) * c)), int(i / c % c), int(i % c)});
     }

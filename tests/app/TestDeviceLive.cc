@@ -8,7 +8,7 @@
 
 #include "vsculpt/app/DeviceCommands.h"
 #include "vsculpt/app/Play.h"
-#include "vsculpt/app/Session.h"
+#include "vsculpt/studio/Session.h"
 #include "vsculpt/core/Mesh.h"
 #include "vsculpt/devices/Polhemus.h"
 
@@ -112,7 +112,7 @@ TEST(DeviceLive, RecordThenReplayGivesTheLiveSculpture) {
 
     // And the pen did sculpt: the live sculpture is not the initial sphere.
     core::SculptConfig cfg = core::loadConfig(configPath);
-    app::Session fresh(cfg);
+    studio::Session fresh(cfg);
     char initial[17];
     std::snprintf(initial, sizeof initial, "%016llx",
                   static_cast<unsigned long long>(core::canonicalMeshHash(fresh.wholeMesh())));

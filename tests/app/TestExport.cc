@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Every export is read back: OBJ, STL, PLY and GLB by Assimp (a third-party loader from
 // Debian), DXF by counting its 3DFACE entities, VDB by OpenVDB's own reader.
-#include "vsculpt/app/Session.h"
+#include "vsculpt/studio/Session.h"
 #include "vsculpt/core/ExportMesh.h"
 
 #include <assimp/postprocess.h>
@@ -25,7 +25,7 @@ struct Fixture : ::testing::Test {
         core::SculptConfig cfg;
         cfg.sphereRadiusMm = 25;
         cfg.polygonizer.gridN = 64;
-        app::Session s(cfg);
+        studio::Session s(cfg);
         s.setSize(5);
         s.stroke({Vec3(-40, 0, 10), Vec3(0, 0, 30), Vec3(40, 0, 10)}, false);
         mesh = s.wholeMesh(1.5);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Golden playback: the example scripts, checked by mesh properties (not pixels).
-#include "vsculpt/app/Session.h"
+#include "vsculpt/studio/Session.h"
 #include "vsculpt/core/EvalField.h"
 
 #include <gtest/gtest.h>

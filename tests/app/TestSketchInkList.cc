@@ -9,15 +9,15 @@ using namespace vsculpt;
 
 namespace {
 
-sketch::PenSample sample(double x, double y, double p, double t) {
-    sketch::PenSample s;
+studio::PenSample sample(double x, double y, double p, double t) {
+    studio::PenSample s;
     s.view = glm::dvec2(x, y);
     s.pressure = p;
     s.time = t;
     return s;
 }
 
-int drawLine(sketch::SketchPage& page, double y, double t0) {
+int drawLine(studio::SketchPage& page, double y, double t0) {
     page.penDown(sample(0, y, 0.2, t0));
     page.penMove(sample(10, y, 0.6, t0 + 0.01));
     page.penMove(sample(20, y, 1.0, t0 + 0.02));
@@ -25,13 +25,13 @@ int drawLine(sketch::SketchPage& page, double y, double t0) {
 }
 
 TEST(SketchInkList, DrawItemsBecomeInkWithRolesTinted) {
-    sketch::SketchPage page("p", "g");
+    studio::SketchPage page("p", "g");
     const int a = drawLine(page, 0, 0);
     const int b = drawLine(page, 10, 1);
-    page.setStrokeRole(b, sketch::Role::Outline);
+    page.setStrokeRole(b, studio::Role::Outline);
     page.select({a});
     const std::vector<render::InkStroke> ink = app::inkOf(page);
-    const std::vector<sketch::DrawItem> items = page.drawList();
+    const std::vector<studio::DrawItem> items = page.drawList();
     ASSERT_EQ(ink.size(), items.size());
     ASSERT_EQ(ink.size(), 2u);
     for (size_t i = 0; i < ink.size(); ++i) {
@@ -50,7 +50,7 @@ TEST(SketchInkList, DrawItemsBecomeInkWithRolesTinted) {
 }
 
 TEST(SketchInkList, HistoryShowsUndoneAndDeletedStrokesForReuse) {
-    sketch::SketchPage page("p", "g");
+    studio::SketchPage page("p", "g");
     const int a = drawLine(page, 0, 0);
     const int b = drawLine(page, 10, 1);
     const int c = drawLine(page, 20, 2);

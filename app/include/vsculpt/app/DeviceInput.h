@@ -17,8 +17,8 @@
 /// object motion.
 #pragma once
 
-#include "vsculpt/app/Interaction.h"
-#include "vsculpt/app/Session.h"
+#include "vsculpt/studio/Interaction.h"
+#include "vsculpt/studio/Studio.h"
 #include "vsculpt/core/Config.h"
 #include "vsculpt/devices/DeviceEvent.h"
 #include "vsculpt/devices/DeviceRule.h"
@@ -59,7 +59,7 @@ class DeviceInput {
   public:
     /// `interaction` and `session` must outlive this object.
     DeviceInput(const core::DevicesConfig& cfg, std::vector<devices::DeviceRule> rules,
-                Interaction& interaction, Session& session);
+                studio::Interaction& interaction, studio::Studio& studio);
     ~DeviceInput();
 
     void handle(const devices::DeviceEvent& event);

@@ -6,7 +6,7 @@
 #pragma once
 
 #include "vsculpt/render/SketchInk.h"
-#include "vsculpt/sketch/SketchDocument.h"
+#include "vsculpt/studio/SketchDocument.h"
 
 #include <optional>
 #include <vector>
@@ -14,17 +14,17 @@
 namespace vsculpt::app {
 
 /// The renderer's class of a draw item: its role's tint when it has a role, else its ink.
-render::InkClass inkClass(const sketch::DrawItem& item);
+render::InkClass inkClass(const studio::DrawItem& item);
 
 /// The page's draw list (live strokes, clean curves, the stroke being drawn) as ink.
-std::vector<render::InkStroke> inkOf(const sketch::SketchPage& page);
+std::vector<render::InkStroke> inkOf(const studio::SketchPage& page);
 
 /// Strokes ever drawn that are not on the page now, as drawn (before any move or scale),
 /// thin and faint.
-std::vector<render::InkStroke> historyInk(const sketch::SketchPage& page);
+std::vector<render::InkStroke> historyInk(const studio::SketchPage& page);
 
 /// The undone or deleted stroke with a sample nearest to `point`, within `tolerance` mm.
-std::optional<int> nearestHistoryStroke(const sketch::SketchPage& page, glm::dvec2 point,
+std::optional<int> nearestHistoryStroke(const studio::SketchPage& page, glm::dvec2 point,
                                         double tolerance);
 
 }  // namespace vsculpt::app

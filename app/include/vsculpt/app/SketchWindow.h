@@ -17,7 +17,8 @@ namespace vsculpt::app {
 
 struct SketchWindowOptions {
     std::string configPath;  ///< "" = configs/sculpt.json
-    std::string projectDir;  ///< "" = no project (nothing saved)
+    std::string projectDir;  ///< "" = the last project or a new autosave project (Rig.h)
+    bool noProject = false;  ///< nothing saved (a scratch session)
     int width = 1280, height = 720;
     int frames = 0;          ///< stop after this many frames (0: until closed)
     std::string playScript;  ///< run this script first, one command per frame

@@ -18,10 +18,14 @@ struct WindowOptions {
     std::string shotPath;    ///< PNG of the last frame
     bool hidden = false;     ///< no visible window (with frames/shot: automated runs)
     bool devices = true;     ///< open trackers, 3D mice and headsets (docs/devices.md)
+    /// The project the window works in; "" = the last project, or a new autosave project
+    /// under $XDG_DATA_HOME/vsculpt/autosave (docs/projects.md).
+    std::string projectDir;
+    bool noProject = false;  ///< nothing saved (a scratch session)
 };
 
 /// Exit code 0; 1 when no window can be opened (the message says why and points to
-/// `vsculpt play`); 2 for bad input.
+/// `vsculpt play`); 2 for bad input (config, script, a project that cannot be opened).
 int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err);
 
 }  // namespace vsculpt::app

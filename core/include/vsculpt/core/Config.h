@@ -65,7 +65,8 @@ struct InteractionConfig {
         {"cycle_tool", "TAB"}, {"step", "SPACE"}, {"zoom_in", "Z"}, {"zoom_out", "X"},
         {"overview", "O"},     {"undo", "U"},     {"redo", "R"},    {"quit", "ESCAPE"},
         {"size_1", "1"},       {"size_2", "2"},   {"size_3", "3"},  {"size_4", "4"},
-        {"size_5", "5"},       {"size_6", "6"},   {"size_7", "7"}};
+        {"size_5", "5"},       {"size_6", "6"},   {"size_7", "7"},  {"save", "F5"},
+        {"save_as", "F6"},     {"export", "F7"},  {"new_project", "F8"}};
     /// The sketch window's keys, action -> key name (the same names).
     std::map<std::string, std::string> sketchBindings{{"undo", "U"},
                                                       {"redo", "R"},
@@ -103,7 +104,11 @@ struct InteractionConfig {
                                                       {"view_top", "F3"},
                                                       {"frame", "HOME"},
                                                       {"history", "H"},
-                                                      {"reuse", "G"}};
+                                                      {"reuse", "G"},
+                                                      {"save", "F5"},
+                                                      {"save_as", "F6"},
+                                                      {"export", "F7"},
+                                                      {"new_project", "F8"}};
     double depthStepOverDiameter = 0.25;  ///< scroll notch moves the tool by this x D
     double rotateRadPerPixel = 0.01;      ///< right-drag turns the object by this per pixel
 };

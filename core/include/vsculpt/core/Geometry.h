@@ -82,6 +82,12 @@ struct RigidTransform {
     friend RigidTransform operator*(const RigidTransform& a, const RigidTransform& b) {
         return RigidTransform{a.rotation * b.rotation, a.rotation * b.translation + a.translation};
     }
+    /// The same transform as a 4x4 matrix (column vectors: m * (p, 1) == (apply(p), 1)).
+    glm::dmat4 matrix() const {
+        glm::dmat4 m = glm::mat4_cast(rotation);
+        m[3] = glm::dvec4(translation, 1.0);
+        return m;
+    }
 };
 
 /// True when every component is finite and within the range the lattices can index.

@@ -11,7 +11,7 @@
 /// - pixels: the viewport's pixels, origin at its top-left corner, x right, y down (like
 ///   window cursor positions); pixel (i, j) covers [i, i+1) x [j, j+1), its centre is
 ///   (i + 0.5, j + 0.5).
-/// This matches vsculpt::sketch::CanvasView (canvas = scale * view + offset) with
+/// This matches vsculpt::studio::CanvasView (canvas = scale * view + offset) with
 /// zoom = 1 / scale and panMm = offset.
 #pragma once
 

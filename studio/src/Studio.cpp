@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-#include "vsculpt/app/Studio.h"
+#include "vsculpt/studio/Studio.h"
 
-#include "vsculpt/app/SketchSolids.h"
+#include "vsculpt/studio/SketchSolids.h"
 
-#include "vsculpt/render/StereoCamera.h"
+#include "vsculpt/core/WriteFileAtomically.h"
 
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
@@ -17,7 +17,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace vsculpt::app {
+namespace vsculpt::studio {
 
 namespace {
 
@@ -25,8 +25,8 @@ const char* planeName(sketch::SketchPlane p) {
     return p == SketchPlane::Front ? "front" : p == SketchPlane::Side ? "side" : "top";
 }
 
-sketch::Role roleFromScript(const std::string& name) {
-    using R = sketch::Role;
+studio::Role roleFromScript(const std::string& name) {
+    using R = studio::Role;
     static const std::pair<const char*, R> table[] = {{"none", R::None},
                                                       {"outline", R::Outline},
                                                       {"surface-x", R::SurfaceLineX},
@@ -41,54 +41,42 @@ sketch::Role roleFromScript(const std::string& name) {
     throw std::invalid_argument("unknown role '" + name + "'");
 }
 
-// Writes `text` to `path` atomically: temp file, fsync, rename, fsync of the folder.
-void writeAtomically(const std::filesystem::path& path, const std::string& text) {
-    const std::filesystem::path tmp = path.string() + ".tmp";
-    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd < 0) throw std::runtime_error(tmp.string() + ": cannot write: " + std::strerror(errno));
-    size_t done = 0;
-    while (done < text.size()) {
-        const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-        if (n < 0 && errno == EINTR) continue;
-        if (n < 0) {
-            const std::string why = std::strerror(errno);
-            ::close(fd);
-            throw std::runtime_error(tmp.string() + ": write failed: " + why);
-        }
-        done += size_t(n);
-    }
-    const bool synced = ::fsync(fd) == 0;
-    ::close(fd);
-    if (!synced) throw std::runtime_error(tmp.string() + ": cannot flush: " + std::strerror(errno));
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) throw std::runtime_error(path.string() + ": cannot replace: " + ec.message());
-    const int dir = ::open(path.parent_path().c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (dir >= 0) {
-        ::fsync(dir);
-        ::close(dir);
-    }
-}
-
 }  // namespace
 
-sketch::SketchParams recommendedSketchParams() {
-    sketch::SketchParams p;
+studio::SketchParams recommendedSketchParams() {
+    studio::SketchParams p;
     p.cleanup.featureChordRatio = 0.05;
     p.cleanup.lineRunningMean = true;
     return p;
 }
 
-Studio::Studio(Session& session, const sketch::SketchParams& params)
-    : mSession(session), mDocument(params) {
-    mSculptSteps = mSession.history().done().size();
-    // Sculpt steps made before the studio existed are undone in their own order first.
+Studio::Studio(const core::SculptConfig& cfg, const studio::SketchParams& params)
+    : Studio(std::make_unique<Session>(cfg), params) {}
+
+Studio::Studio(std::unique_ptr<Session> session, const studio::SketchParams& params)
+    : mSession(std::move(session)), mDocument(params) {
+    if (!mSession) throw std::logic_error("Studio needs a session");
+    mSculptSteps = mSession->history().done().size();
+    // Sculpt steps made before the studio existed are undone in their own order first, and
+    // what was undone before (a recovered journal ending in undos) can still be redone.
     for (size_t i = 0; i < mSculptSteps; ++i)
         mDone.push_back(Step{false, 0});
+    for (size_t i = 0; i < mSession->history().undone().size(); ++i)
+        mUndone.push_back(Step{false, 0});
     mPlanes.assign(mDocument.pageCount(), SketchPlane::Front);
-    if (!mSession.projectDir()) return;
-    mFile = *mSession.projectDir() / "sketch.json";
-    if (!std::filesystem::exists(*mFile)) return;
+    if (!mSession->projectDir()) return;
+    mFile = *mSession->projectDir() / "sketch.json";
+    if (std::filesystem::exists(*mFile)) loadSketchFile();
+}
+
+std::unique_ptr<Studio> Studio::openProject(const std::filesystem::path& dir,
+                                            const core::SculptConfig& cfg, ProjectMode mode,
+                                            const studio::SketchParams& params) {
+    return std::make_unique<Studio>(Session::openProject(dir, cfg, mode), params);
+}
+
+void Studio::loadSketchFile() {
+    const studio::SketchParams params = mDocument.params();
     std::ifstream in(*mFile, std::ios::binary);
     std::ostringstream text;
     text << in.rdbuf();
@@ -105,7 +93,7 @@ Studio::Studio(Session& session, const sketch::SketchParams& params)
     if (!j.contains("document") || !j["document"].is_object())
         throw std::invalid_argument(where + "document: missing");
     try {
-        mDocument = sketch::SketchDocument::fromJson(j["document"].dump(), params);
+        mDocument = studio::SketchDocument::fromJson(j["document"].dump(), params);
     } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(where + "document." + e.what());
     }
@@ -166,25 +154,42 @@ Studio::Studio(Session& session, const sketch::SketchParams& params)
     if (surfaceDone != mSurfaceLines.size() || surfaceUndone != mUndoneSurfaceLines.size())
         throw std::invalid_argument(where + "surface_lines: do not match the timeline's steps");
     // The journal may hold sculpt steps the file has not seen (a crash between the two
-    // writes), or fewer: reconcile by the sculpt step count, keeping the order known.
-    size_t sculpt = 0;
-    for (const Step& s : mDone)
-        sculpt += s.sculpt();
-    const size_t actual = mSession.history().done().size();
-    while (sculpt > actual) {
-        for (auto it = mDone.rbegin(); it != mDone.rend(); ++it)
-            if (it->sculpt()) {
-                mDone.erase(std::next(it).base());
-                break;
-            }
-        --sculpt;
+    // writes), or fewer: reconcile by the sculpt step counts, keeping the order known. Redo
+    // steps are kept when the session can still redo them.
+    auto reconcile = [](std::vector<Step>& steps, size_t actual) {
+        size_t sculpt = 0;
+        for (const Step& s : steps)
+            sculpt += s.sculpt();
+        bool changed = false;
+        while (sculpt > actual) {
+            for (auto it = steps.rbegin(); it != steps.rend(); ++it)
+                if (it->sculpt()) {
+                    steps.erase(std::next(it).base());
+                    break;
+                }
+            --sculpt;
+            changed = true;
+        }
+        for (; sculpt < actual; ++sculpt, changed = true)
+            steps.push_back(Step{false, 0});
+        return changed;
+    };
+    if (reconcile(mDone, mSession->history().done().size())) {
+        // The done steps changed: what the file called redo no longer follows them.
         mUndone.clear();
+        mUndoneSurfaceLines.clear();
     }
-    for (; sculpt < actual; ++sculpt) {
-        mDone.push_back(Step{false, 0});
-        mUndone.clear();
+    if (reconcile(mUndone, mSession->history().undone().size())) {
+        // Sculpt redo steps the file did not know of come first to be redone.
+        std::vector<Step> sculptOnly;
+        for (const Step& s : mUndone)
+            if (s.sculpt()) sculptOnly.push_back(s);
+        if (sculptOnly.size() != mUndone.size()) {
+            mUndone = sculptOnly;
+            mUndoneSurfaceLines.clear();
+        }
     }
-    mSculptSteps = actual;
+    mSculptSteps = mSession->history().done().size();
 }
 
 SketchPlane Studio::plane(size_t pageIndex) const {
@@ -195,7 +200,7 @@ void Studio::setPlane(size_t pageIndex, SketchPlane plane) {
     if (pageIndex >= mDocument.pageCount()) throw std::out_of_range("no such sketch page");
     mPlanes.resize(mDocument.pageCount(), SketchPlane::Front);
     mPlanes[pageIndex] = plane;
-    save();
+    writeSketchFile();
 }
 
 void Studio::push(const Step& step) {
@@ -204,76 +209,76 @@ void Studio::push(const Step& step) {
     mUndoneSurfaceLines.clear();
 }
 
-size_t Studio::drawOnModel(const std::vector<glm::dvec2>& strokePx,
-                           const render::ProjectionCamera& camera) {
-    mSession.endStroke();
-    syncSculptSteps();
-    const core::Mesh mesh = mSession.view().mesh();
-    if (mesh.triangleCount() == 0 || strokePx.empty()) return 0;
-    render::StrokeProjectionOptions o;
-    // Points about a third of the finest lattice spacing on show apart: smooth at any zoom.
-    o.spacingMm = std::max(0.05, mSession.view().region().spacingMm / 3);
-    o.maxDepthJumpMm = std::max(o.spacingMm, 10 * mSession.view().region().spacingMm);
-    const auto pieces = render::projectStroke(mesh, camera, strokePx, o);
+size_t Studio::addSurfaceLines(std::vector<std::vector<core::Vec3>> lines) {
+    endStroke();
     size_t added = 0;
-    for (const auto& piece : pieces) {
-        if (piece.size() < 2) continue;
-        std::vector<core::Vec3> line;
-        for (const render::SurfacePoint& p : piece)
-            line.push_back(p.position);
+    for (auto& line : lines) {
+        if (line.size() < 2) continue;
+        for (const core::Vec3& p : line)
+            if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+                throw std::invalid_argument("surface line point is not finite");
         mSurfaceLines.push_back(std::move(line));
         ++added;
     }
     if (added == 0) return 0;
     push(Step{false, 0, added});
-    save();
+    writeSketchFile();
     return added;
 }
 
-render::ProjectionCamera Studio::frontCamera(glm::ivec2 viewportPx) const {
-    if (viewportPx.x <= 0 || viewportPx.y <= 0)
-        throw std::invalid_argument("model view size must be positive");
-    const core::Aabb box = core::meshBounds(mSession.view().mesh());
-    if (box.empty()) throw std::invalid_argument("nothing to draw on: the sculpture is empty");
-    const core::RigidTransform& pose = mSession.objectPose();
-    glm::dmat4 worldFromObject = glm::mat4_cast(pose.rotation);
-    worldFromObject[3] = glm::dvec4(pose.translation, 1.0);
-    // As the window frames it: the box after the object's pose, seen from the front.
-    const glm::dvec3 c = glm::dvec3(worldFromObject * glm::dvec4(0.5 * (box.min + box.max), 1));
-    const glm::dvec3 half = 0.5 * (box.max - box.min);
-    render::StereoDisplay d;
-    const glm::dmat4 head =
-        render::frameFromFront(c - half, c + half, double(viewportPx.x) / viewportPx.y, d);
-    d.ipdMm = 0;
-    return render::ProjectionCamera::fromEye(render::stereoEyes(head, d)[0], worldFromObject,
-                                             viewportPx);
+// Tool state and sculpting: every call that can end a stroke goes through sculpt(), which
+// puts the completed step on the timeline.
+void Studio::setTool(ToolKind tool) {
+    sculpt([&](Session& s) { s.setTool(tool); });
+}
+void Studio::setSize(int level) {
+    sculpt([&](Session& s) { s.setSize(level); });
+}
+void Studio::setZoom(int zoom, const core::Vec3& center) {
+    sculpt([&](Session& s) { s.setZoom(zoom, center); });
+}
+void Studio::setObjectPose(const core::RigidTransform& worldFromObject) {
+    mSession->setObjectPose(worldFromObject);
+}
+void Studio::beginStroke() {
+    mSession->beginStroke();
+}
+void Studio::strokeSample(const core::Vec3& point, bool world) {
+    mSession->strokeSample(point, world);
+}
+void Studio::endStroke() {
+    sculpt([](Session& s) { s.endStroke(); });
+}
+void Studio::stroke(const std::vector<core::Vec3>& points, bool world) {
+    sculpt([&](Session& s) { s.stroke(points, world); });
+}
+int Studio::addSolid(const core::Mesh& solid, int level) {
+    return sculpt([&](Session& s) { return s.addSolid(solid, level); });
+}
+
+void Studio::save() {
+    endStroke();
+    mSession->save();
+    writeSketchFile();
 }
 
 void Studio::noteSketchStep() {
     push(Step{true, mDocument.currentIndex()});
-    save();
+    writeSketchFile();
 }
 
-void Studio::syncSculptSteps() {
-    const size_t n = mSession.history().done().size();
+void Studio::noteSculptSteps() {
+    const size_t n = mSession->history().done().size();
     if (n == mSculptSteps) return;
+    if (n < mSculptSteps)
+        throw std::logic_error("the session undid a step behind the studio's timeline");
     for (; mSculptSteps < n; ++mSculptSteps)
         push(Step{false, 0});
-    // Fewer: undone behind the studio's back; drop that many sculpt steps from the end.
-    while (mSculptSteps > n) {
-        for (auto it = mDone.rbegin(); it != mDone.rend(); ++it)
-            if (it->sculpt()) {
-                mDone.erase(std::next(it).base());
-                break;
-            }
-        --mSculptSteps;
-    }
-    save();
+    writeSketchFile();
 }
 
 bool Studio::undo() {
-    mSession.endStroke();
-    syncSculptSteps();
+    endStroke();
     if (mDone.empty()) return false;
     const Step s = mDone.back();
     if (s.surfaceLines > 0) {
@@ -282,24 +287,23 @@ bool Studio::undo() {
             mSurfaceLines.pop_back();
         }
     } else if (s.sketch) {
-        sketch::SketchPage& p = mDocument.page(s.page);
+        studio::SketchPage& p = mDocument.page(s.page);
         if (p.penIsDown()) p.cancelStroke();
         mDocument.selectPage(s.page);  // the undone stroke is on show
         if (!p.undo()) throw std::logic_error("sketch timeline and page log disagree");
     } else {
-        if (!mSession.undo()) throw std::logic_error("sculpt timeline and history disagree");
+        if (!mSession->undo()) throw std::logic_error("sculpt timeline and history disagree");
         --mSculptSteps;
     }
     mDone.pop_back();
     mUndone.push_back(s);
     if (mLastSolid && mLastSolid->timelineIndex >= mDone.size()) mLastSolid.reset();
-    save();
+    writeSketchFile();
     return s.sculpt();
 }
 
 bool Studio::redo() {
-    mSession.endStroke();
-    syncSculptSteps();
+    endStroke();
     if (mUndone.empty()) return false;
     const Step s = mUndone.back();
     if (s.surfaceLines > 0) {
@@ -312,12 +316,12 @@ bool Studio::redo() {
         if (!mDocument.page(s.page).redo())
             throw std::logic_error("sketch timeline and page log disagree");
     } else {
-        if (!mSession.redo()) throw std::logic_error("sculpt timeline and history disagree");
+        if (!mSession->redo()) throw std::logic_error("sculpt timeline and history disagree");
         ++mSculptSteps;
     }
     mUndone.pop_back();
     mDone.push_back(s);
-    save();
+    writeSketchFile();
     return s.sculpt();
 }
 
@@ -328,7 +332,7 @@ core::Vec3 Studio::toObject(size_t pageIndex, const glm::dvec2& c) const {
 std::vector<std::vector<core::Vec3>> Studio::curvesInObjectSpace() const {
     std::vector<std::vector<core::Vec3>> out;
     for (size_t i = 0; i < mDocument.pageCount(); ++i) {
-        const sketch::SketchPage& p = mDocument.page(i);
+        const studio::SketchPage& p = mDocument.page(i);
         auto add = [&](const sketch::Polyline2& pts, bool closed) {
             if (pts.size() < 2) return;
             std::vector<core::Vec3> c;
@@ -348,8 +352,7 @@ std::vector<std::vector<core::Vec3>> Studio::curvesInObjectSpace() const {
 
 int Studio::buildSolid(sketch::SolidConstruction construction, int level) {
     using C = sketch::SolidConstruction;
-    mSession.endStroke();
-    syncSculptSteps();
+    endStroke();
     const sketch::SketchSolidInput input = sketchSolidInput(
         construction, mDocument, mDocument.currentIndex(), mPlanes,
         mLastBuilt ? std::optional<sketch::PolyMesh>(mLastBuilt->polyMesh) : std::nullopt);
@@ -366,17 +369,15 @@ int Studio::buildSolid(sketch::SolidConstruction construction, int level) {
         for (size_t i = mLastSolid->timelineIndex + 1; i < mDone.size(); ++i)
             if (mDone[i].sculpt()) replace = false;
     }
-    const size_t before = mSession.history().done().size();
-    const int used = mSession.addSolid(toMesh(built.triangles), level, replace);
-    if (mSession.history().done().size() > before) {
-        ++mSculptSteps;
-        push(Step{false, 0});
+    const size_t before = mSession->history().done().size();
+    const int used = sculpt(
+        [&](Session& s) { return s.addSolid(toMesh(built.triangles), level, replace); });
+    if (mSession->history().done().size() > before) {
         const C kept = (construction == C::Cut || construction == C::Extrude) && mLastSolid
                            ? mLastSolid->construction
                            : construction;
         mLastSolid = BuiltSolid{kept, mDone.size() - 1};
         mLastBuilt = std::move(built);
-        save();
     }
     return used;
 }
@@ -395,12 +396,11 @@ bool Studio::apply(const ScriptCommand& c) {
             }
             applySketch(c);
             return false;
-        default: {
-            const bool changed = mSession.apply(c);
-            syncSculptSteps();
-            if (c.kind == K::Save) save();
-            return changed;
-        }
+        case K::Save:
+            save();
+            return false;
+        default:
+            return sculpt([&](Session& s) { return s.apply(c); });
     }
 }
 
@@ -426,11 +426,11 @@ void Studio::applySketch(const ScriptCommand& c) {
                 setPlane(mDocument.currentIndex(), SketchPlane::Side);
             else if (lower.rfind("top", 0) == 0)
                 setPlane(mDocument.currentIndex(), SketchPlane::Top);
-            save();
+            writeSketchFile();
             return;
         }
         case V::Mode:
-            page().setMode(s.flag ? sketch::SketchMode::Cleanup : sketch::SketchMode::Draft);
+            page().setMode(s.flag ? studio::SketchMode::Cleanup : studio::SketchMode::Draft);
             return;
         case V::Kind:
             page().setKind(s.flag ? sketch::StrokeKind::Line : sketch::StrokeKind::Curve);
@@ -440,17 +440,17 @@ void Studio::applySketch(const ScriptCommand& c) {
             // window centres its canvas); the pen goes through the view as a tablet's would.
             // Times: as given, or 10 ms apart, each stroke 0.2 s after the previous one (within
             // the clean-up pause, so scripted overdrawing forms one group until `tick`).
-            std::vector<sketch::PenSample> samples;
+            std::vector<studio::PenSample> samples;
             double t = mClock + 0.2;
             for (const PenPoint& q : s.pen) {
-                sketch::PenSample ps;
+                studio::PenSample ps;
                 ps.view = page().view().viewFromCanvas(glm::dvec2(q.x, q.y));
                 ps.pressure = q.pressure;
                 ps.time = q.time.value_or(t);
                 t = ps.time + 0.01;
                 samples.push_back(ps);
             }
-            sketchStep([&](sketch::SketchPage& p) {
+            sketchStep([&](studio::SketchPage& p) {
                 p.penDown(samples.front());
                 try {
                     for (size_t i = 1; i < samples.size(); ++i)
@@ -465,11 +465,11 @@ void Studio::applySketch(const ScriptCommand& c) {
             return;
         }
         case V::EndGroup:
-            sketchStep([](sketch::SketchPage& p) { p.endGroup(); });
+            sketchStep([](studio::SketchPage& p) { p.endGroup(); });
             return;
         case V::Tick:
             mClock = std::max(mClock, n[0]);
-            sketchStep([&](sketch::SketchPage& p) { p.advanceTime(n[0]); });
+            sketchStep([&](studio::SketchPage& p) { p.advanceTime(n[0]); });
             return;
         case V::CanvasZoom:
             page().zoomAbout(glm::dvec2(n[1], n[2]), n[0]);
@@ -497,17 +497,17 @@ void Studio::applySketch(const ScriptCommand& c) {
             page().selectNearest(glm::dvec2(n[0], n[1]), n[2]);
             return;
         case V::Move:
-            sketchStep([&](sketch::SketchPage& p) { p.moveSelection(glm::dvec2(n[0], n[1])); });
+            sketchStep([&](studio::SketchPage& p) { p.moveSelection(glm::dvec2(n[0], n[1])); });
             return;
         case V::Scale:
-            sketchStep([&](sketch::SketchPage& p) { p.scaleSelection(n[0]); });
+            sketchStep([&](studio::SketchPage& p) { p.scaleSelection(n[0]); });
             return;
         case V::Delete:
-            sketchStep([](sketch::SketchPage& p) { p.deleteSelection(); });
+            sketchStep([](studio::SketchPage& p) { p.deleteSelection(); });
             return;
         case V::Role: {
-            const sketch::Role role = roleFromScript(s.name);
-            sketchStep([&](sketch::SketchPage& p) {
+            const studio::Role role = roleFromScript(s.name);
+            sketchStep([&](studio::SketchPage& p) {
                 if (s.target == SketchCommand::Target::Stroke) {
                     p.setStrokeRole(s.ids[0], role);
                 } else if (s.target == SketchCommand::Target::Curve) {
@@ -529,7 +529,7 @@ void Studio::applySketch(const ScriptCommand& c) {
             return;
         }
         case V::Reuse:
-            sketchStep([&](sketch::SketchPage& p) { p.reuse(s.ids[0]); });
+            sketchStep([&](studio::SketchPage& p) { p.reuse(s.ids[0]); });
             return;
         case V::Solid:
             buildSolid(constructionFromName(s.name), s.level);
@@ -538,14 +538,18 @@ void Studio::applySketch(const ScriptCommand& c) {
             std::vector<glm::dvec2> px;
             for (const PenPoint& q : s.pen)
                 px.emplace_back(q.x, q.y);
-            drawOnModel(px, frontCamera(glm::ivec2(int(n[0]), int(n[1]))));
+            if (!mProjector)
+                throw std::invalid_argument(
+                    "model-line needs a view of the model to draw on (vsculpt play, render "
+                    "and the windows have one)");
+            addSurfaceLines(mProjector(*mSession, px, glm::ivec2(int(n[0]), int(n[1]))));
             return;
         }
     }
 }
 
-void Studio::save() const {
-    if (!mFile) return;
+void Studio::writeSketchFile() const {
+    if (!mFile || mSession->readOnly()) return;
     nlohmann::json j;
     j["format"] = "vsculpt-studio";
     j["version"] = 1;
@@ -575,7 +579,7 @@ void Studio::save() const {
     j["surface_lines"] = lines(mSurfaceLines);
     j["redo_surface_lines"] = lines(mUndoneSurfaceLines);
     j["document"] = nlohmann::json::parse(mDocument.toJson());
-    writeAtomically(*mFile, j.dump(1) + "\n");
+    core::writeFileAtomically(*mFile, j.dump(1) + "\n", true);
 }
 
-}  // namespace vsculpt::app
+}  // namespace vsculpt::studio

@@ -15,7 +15,7 @@
 #include <string_view>
 #include <vector>
 
-namespace vsculpt::app {
+namespace vsculpt::studio {
 
 /// "file:line: message". The line is 1-based; 0 when the error concerns the whole file.
 class ScriptError : public std::runtime_error {
@@ -88,4 +88,4 @@ struct Script {
 Script parseScript(std::string_view text, const std::string& sourceName);
 Script loadScript(const std::filesystem::path& path);
 
-}  // namespace vsculpt::app
+}  // namespace vsculpt::studio

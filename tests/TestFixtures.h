@@ -2,7 +2,7 @@
 // Shared fixtures of the app tests: a small, quick config and a temporary folder.
 #pragma once
 
-#include "vsculpt/app/Session.h"
+#include "vsculpt/studio/Session.h"
 #include "vsculpt/core/Config.h"
 #include "vsculpt/core/Mesh.h"
 
@@ -23,7 +23,7 @@ inline core::SculptConfig smallConfig(double sphereRadiusMm = 30) {
 }
 
 /// The canonical hash of the mesh on show.
-inline uint64_t viewHash(const app::Session& s) {
+inline uint64_t viewHash(const studio::Session& s) {
     return core::canonicalMeshHash(s.view().mesh());
 }
 

@@ -5,14 +5,14 @@
 #pragma once
 
 #include "vsculpt/core/Mesh.h"
-#include "vsculpt/sketch/SketchDocument.h"
+#include "vsculpt/studio/SketchDocument.h"
 #include "vsculpt/sketch/SketchSolid.h"
 
 #include <optional>
 #include <string>
 #include <vector>
 
-namespace vsculpt::app {
+namespace vsculpt::studio {
 
 /// "inflate", "three-section", "sweep", "cut", "extrude"; std::invalid_argument otherwise.
 sketch::SolidConstruction constructionFromName(const std::string& name);
@@ -23,7 +23,7 @@ sketch::SolidConstruction constructionFromName(const std::string& name);
 /// side, path top). Extrude: the closed Extrude polyline is the base, the open one the
 /// silhouette. `previous` is the solid cut and extrude change.
 sketch::SketchSolidInput sketchSolidInput(sketch::SolidConstruction construction,
-                                          const sketch::SketchDocument& document,
+                                          const studio::SketchDocument& document,
                                           size_t currentPage,
                                           const std::vector<sketch::SketchPlane>& planes,
                                           const std::optional<sketch::PolyMesh>& previous);
@@ -31,4 +31,4 @@ sketch::SketchSolidInput sketchSolidInput(sketch::SolidConstruction construction
 /// The same triangles as a core mesh (no normals).
 core::Mesh toMesh(const sketch::TriangleMesh& triangles);
 
-}  // namespace vsculpt::app
+}  // namespace vsculpt::studio

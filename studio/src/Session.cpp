@@ -1,13 +1,16 @@
 // SPDX-License-Identifier: MIT
-#include "vsculpt/app/Session.h"
+#include "vsculpt/studio/Session.h"
 
 #include "vsculpt/core/PlaceSolid.h"
 #include "vsculpt/core/PlaceStroke.h"
 
+#include <nlohmann/json.hpp>
+
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
-namespace vsculpt::app {
+namespace vsculpt::studio {
 
 using namespace vsculpt::core;
 
@@ -22,43 +25,88 @@ Session::Session(const SculptConfig& cfg, bool)
 
 Session::~Session() = default;
 
+void takeMachineSettings(SculptConfig& projectConfig, const SculptConfig& machine) {
+    projectConfig.interaction = machine.interaction;
+    projectConfig.render = machine.render;
+    projectConfig.devices = machine.devices;
+}
+
+std::string projectConfigJson(const SculptConfig& cfg) {
+    nlohmann::json j = nlohmann::json::parse(configToJson(cfg));
+    for (const char* machineOnly : {"interaction", "render", "devices"})
+        j.erase(machineOnly);
+    return j.dump(1);
+}
+
 std::unique_ptr<Session> Session::openProject(const std::filesystem::path& dir,
-                                              const SculptConfig& cfgForNew) {
+                                              const SculptConfig& cfg, ProjectMode mode) {
+    const bool readOnly = mode == ProjectMode::ReadOnly;
     std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec) throw ProjectError(dir.string() + ": cannot create project folder: " + ec.message());
-    const auto snap = snapshotPath(dir);
+    if (readOnly) {
+        if (!std::filesystem::is_directory(dir, ec))
+            throw ProjectError(dir.string() + ": no project folder here");
+    } else {
+        std::filesystem::create_directories(dir, ec);
+        if (ec)
+            throw ProjectError(dir.string() + ": cannot create project folder: " + ec.message());
+    }
+    // Locked before anything is read, so no other process writes between reading and
+    // appending.
+    std::unique_ptr<ProjectLock> lock;
+    std::string lockNote;
+    if (!readOnly) {
+        lock = std::make_unique<ProjectLock>(dir, ProjectLock::Mode::Write);
+    } else {
+        // A reader waits for no one: beside a window that has the project open it reads the
+        // journal as far as it is written (a torn last record is dropped, never cut off).
+        try {
+            lock = std::make_unique<ProjectLock>(dir, ProjectLock::Mode::ReadOnly);
+        } catch (const ProjectError& e) {
+            lockNote = std::string("note: ") + e.what() + "; reading it as it is now";
+        }
+    }
+    RecoveredProject found = readProject(dir);
     std::unique_ptr<Session> s;
     uint64_t lastSeq = 0;
-    if (std::filesystem::exists(snap)) {
-        SnapshotContents c = readSnapshot(snap);
-        SculptConfig cfg;
+    if (found.snapshot) {
+        SnapshotContents& c = *found.snapshot;
+        SculptConfig stored;
         try {
-            cfg = parseConfig(c.configJson, snap.string() + " (stored config)");
+            stored = parseConfig(c.configJson, snapshotPath(dir).string() + " (stored config)");
         } catch (const ConfigError& e) {
             throw ProjectError(e.what());
         }
-        s.reset(new Session(cfg, true));
+        takeMachineSettings(stored, cfg);
+        s.reset(new Session(stored, true));
         for (const SkeletonEntry& e : c.skeletons)
             s->mSculpture->store().set(e.level, e.coord, e.weight);
         s->mHistory.restore(std::move(c.done), std::move(c.undone));
         lastSeq = c.lastSequence;
+    } else if (readOnly) {
+        throw ProjectError(dir.string() + ": not a vsculpt project (no " +
+                           snapshotPath(dir).filename().string() + ")");
     } else {
-        s.reset(new Session(cfgForNew, true));
+        s.reset(new Session(cfg, true));
         // A new project starts with a snapshot, so the config travels with it.
-        writeSnapshot(snap, configToJson(s->mConfig), 0, *s->mSculpture, s->mHistory);
+        writeSnapshot(snapshotPath(dir), projectConfigJson(s->mConfig), 0, *s->mSculpture,
+                      s->mHistory);
     }
     s->mProjectDir = dir;
+    s->mReadOnly = readOnly;
     s->mSequence = lastSeq;
-    const JournalContents j = readJournal(journalPath(dir));
-    for (const JournalRecord& r : j.records) {
-        if (r.sequence <= lastSeq) continue;  // already in the snapshot
+    for (const JournalRecord& r : found.records) {
+        if (r.sequence <= s->mSequence) continue;  // already in the snapshot
         s->applyJournalRecord(r);
         s->mSequence = r.sequence;
         ++s->mRecovered;
     }
-    s->mRecoveryWarning = j.warning;
-    s->mJournal = std::make_unique<JournalWriter>(journalPath(dir), j.validBytes);
+    for (const std::string& w : found.warnings)
+        s->mRecoveryWarning += (s->mRecoveryWarning.empty() ? "" : "\n") + w;
+    if (!lockNote.empty())
+        s->mRecoveryWarning += (s->mRecoveryWarning.empty() ? "" : "\n") + lockNote;
+    if (!readOnly)
+        s->mJournal = std::make_unique<JournalWriter>(journalPath(dir), found.journalValidBytes);
+    s->mLock = std::move(lock);
     s->rebuildView();
     return s;
 }
@@ -167,6 +215,7 @@ void Session::setObjectPose(const RigidTransform& worldFromObject) {
 }
 
 void Session::journal(const JournalRecord& r) {
+    if (mReadOnly) throw SessionError("the project is open read-only: edits are not kept");
     if (mJournal) mJournal->append(r);
 }
 
@@ -192,8 +241,17 @@ void Session::strokeSample(const Vec3& p, bool world) {
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                 .count());
         mStrokeRecord.samples.push_back(objectPos);
-    } catch (...) {
+    } catch (const std::logic_error& e) {
         // A refused sample cancels the whole stroke: no half-applied, unjournaled edit.
+        mView->update(revertChanges(*mSculpture, mStroke->changes()));
+        mStroke.reset();
+        // The lattices refuse a point they cannot hold with invalid_argument/out_of_range:
+        // the user's input. Any other logic_error is a broken invariant and stays one.
+        if (dynamic_cast<const std::invalid_argument*>(&e) ||
+            dynamic_cast<const std::out_of_range*>(&e))
+            throw SessionError(std::string("tool sample refused: ") + e.what());
+        throw;
+    } catch (...) {
         mView->update(revertChanges(*mSculpture, mStroke->changes()));
         mStroke.reset();
         throw;
@@ -204,14 +262,24 @@ void Session::endStroke() {
     if (!mStroke) return;
     mStrokeRecord.changes = mStroke->takeChanges();
     mStroke.reset();
+    if (mStrokeRecord.samples.empty()) return;  // nothing placed: no step
     // The edit is durable before it counts as done.
     JournalRecord j;
-    j.sequence = ++mSequence;
+    j.sequence = mSequence + 1;
     j.op = JournalOp::Stroke;
     j.tool = mStrokeRecord.op;
     j.level = mStrokeRecord.level;
     j.samples = mStrokeRecord.samples;
-    journal(j);
+    try {
+        journal(j);
+    } catch (...) {
+        // Not durable, so not done: roll the stroke back as addSolid does, so the sculpture
+        // never shows what a reopened project would not have.
+        mView->update(revertChanges(*mSculpture, mStrokeRecord.changes));
+        mStrokeRecord = StrokeRecord{};
+        throw;
+    }
+    ++mSequence;
     mHistory.push(std::move(mStrokeRecord));
     mStrokeRecord = StrokeRecord{};
 }
@@ -280,33 +348,33 @@ int Session::addSolid(const Mesh& solid, int level, bool replaceLast) {
 bool Session::undo() {
     endStroke();
     if (!mHistory.canUndo()) return false;
-    const Aabb box = mHistory.undo(*mSculpture);
-    mView->update(box);
     JournalRecord j;
-    j.sequence = ++mSequence;
+    j.sequence = mSequence + 1;
     j.op = JournalOp::Undo;
-    journal(j);
+    journal(j);  // before the undo: a failed write leaves the step in place
+    ++mSequence;
+    mView->update(mHistory.undo(*mSculpture));
     return true;
 }
 
 bool Session::redo() {
     endStroke();
     if (!mHistory.canRedo()) return false;
-    const Aabb box = mHistory.redo(*mSculpture);
-    mView->update(box);
     JournalRecord j;
-    j.sequence = ++mSequence;
+    j.sequence = mSequence + 1;
     j.op = JournalOp::Redo;
     journal(j);
+    ++mSequence;
+    mView->update(mHistory.redo(*mSculpture));
     return true;
 }
 
 void Session::save() {
     endStroke();
     if (!mProjectDir) return;
-    writeSnapshot(snapshotPath(*mProjectDir), configToJson(mConfig), mSequence, *mSculpture,
-                  mHistory);
-    mJournal->reset();
+    if (mReadOnly) throw SessionError("the project is open read-only: nothing to save");
+    saveProject(*mProjectDir, projectConfigJson(mConfig), mSequence, *mSculpture, mHistory,
+                *mJournal);
 }
 
 std::string Session::verifyMesh() const {
@@ -314,9 +382,25 @@ std::string Session::verifyMesh() const {
 }
 
 Mesh Session::wholeMesh(double spacing) const {
-    if (spacing <= 0) spacing = zoomSpacing(mConfig, mSculpture->levels(), 1);
+    if (spacing == 0) spacing = zoomSpacing(mConfig, mSculpture->levels(), 1);
+    if (!std::isfinite(spacing) || spacing <= 0)
+        throw SessionError("grid spacing must be a positive number of mm");
     const Aabb bounds = mSculpture->supportBounds();
     if (bounds.empty()) return {};
+    // The extent in cells is computed in doubles first: a tiny spacing gives a cell count
+    // no integer holds, and it is refused before any conversion.
+    double cells = 0;
+    for (int a = 0; a < 3; ++a)
+        cells = std::max(cells, std::ceil(bounds.max[a] / spacing) -
+                                    std::floor(bounds.min[a] / spacing) + 2);
+    if (!(cells <= 1024)) {
+        char text[160];
+        std::snprintf(text, sizeof text,
+                      "the sculpture spans %.3g cells at %.3g mm; at most 1024 per axis: "
+                      "choose a coarser export spacing",
+                      cells, spacing);
+        throw SessionError(text);
+    }
     GridRegion r;
     r.spacingMm = spacing;
     int64_t extent = 0;
@@ -336,4 +420,4 @@ Mesh Session::wholeMesh(double spacing) const {
     return poly.mesh();
 }
 
-}  // namespace vsculpt::app
+}  // namespace vsculpt::studio

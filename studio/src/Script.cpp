@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
-#include "vsculpt/app/Script.h"
+#include "vsculpt/studio/Script.h"
 
 #include <charconv>
 #include <cmath>
 #include <fstream>
 #include <sstream>
 
-namespace vsculpt::app {
+namespace vsculpt::studio {
 
 namespace {
 
@@ -359,4 +359,4 @@ Script loadScript(const std::filesystem::path& path) {
     return parseScript(s.str(), path.string());
 }
 
-}  // namespace vsculpt::app
+}  // namespace vsculpt::studio

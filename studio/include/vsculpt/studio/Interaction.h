@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @file Interaction.h
 /// @brief The interaction state machine: device and keyboard events -> tool state and edits
-/// on a Session (thesis Table 2, without its annoyances).
+/// through a Studio (thesis Table 2, without its annoyances).
 ///
 /// Thesis mapping (3D mouse): the right button cycles the tool add -> carve -> select; the
 /// left button steps the size one offered level per press, or with the select tool zooms one
@@ -11,16 +11,16 @@
 /// engaged; a desktop binds engagement to a button.
 #pragma once
 
-#include "vsculpt/app/Session.h"
+#include "vsculpt/studio/Studio.h"
 
 #include <vector>
 
-namespace vsculpt::app {
+namespace vsculpt::studio {
 
 class Interaction {
   public:
     /// @param alwaysEngaged the thesis's behaviour: add/carve act whenever the tool moves
-    explicit Interaction(Session& session, bool alwaysEngaged = false);
+    explicit Interaction(Studio& studio, bool alwaysEngaged = false);
 
     /// Right button: add -> carve -> select -> add.
     void cycleTool();
@@ -46,9 +46,10 @@ class Interaction {
     bool engaged() const { return mEngaged; }
 
   private:
-    Session& mSession;
+    Studio& mStudio;
+    const Session& session() const { return mStudio.session(); }
     bool mAlwaysEngaged;
     bool mEngaged;
 };
 
-}  // namespace vsculpt::app
+}  // namespace vsculpt::studio

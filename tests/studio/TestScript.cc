@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-#include "vsculpt/app/Script.h"
+#include "vsculpt/studio/Script.h"
 
 #include <gtest/gtest.h>
 
-using namespace vsculpt::app;
+using namespace vsculpt::studio;
 using Kind = ScriptCommand::Kind;
 
 namespace {

@@ -1,4 +1,4 @@
-#include "vsculpt/sketch/SketchDocument.h"
+#include "vsculpt/studio/SketchDocument.h"
 
 #include <nlohmann/json.hpp>
 
@@ -10,7 +10,10 @@
 #include <stdexcept>
 #include <utility>
 
-namespace vsculpt::sketch {
+namespace vsculpt::studio {
+
+// The geometry this editor drives lives in core/sketch.
+using namespace vsculpt::sketch;
 
 namespace {
 
@@ -1165,4 +1168,4 @@ SketchDocument SketchDocument::fromJson(const std::string& textIn, const SketchP
     return doc;
 }
 
-}  // namespace vsculpt::sketch
+}  // namespace vsculpt::studio

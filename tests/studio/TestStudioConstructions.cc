@@ -2,10 +2,10 @@
 // Scripted sketch sessions for each construction (issue #8): three sections, cut, extrude
 // and regeneration, with pen samples as a designer draws them; the solids are checked in the
 // sculpture (watertight, one component, symmetric, silhouettes against the drawn sections).
-#include "vsculpt/app/Studio.h"
+#include "vsculpt/studio/Studio.h"
 #include "vsculpt/core/EvalField.h"
 
-#include "AppTestUtil.h"
+#include "../TestFixtures.h"
 
 #include <gtest/gtest.h>
 
@@ -14,7 +14,7 @@
 #include <sstream>
 
 using namespace vsculpt;
-using namespace vsculpt::app;
+using namespace vsculpt::studio;
 using core::Vec3;
 
 namespace {
@@ -75,8 +75,8 @@ std::string threeSectionScript(double top) {
 }
 
 TEST(StudioConstructions, ThreeSectionsFromPenStrokesOnThreeViews) {
-    Session session(emptyConfig());
-    Studio studio(session);
+    Studio studio(emptyConfig());
+    const Session& session = studio.session();
     run(studio, threeSectionScript(20));
     ASSERT_EQ(session.history().done().size(), 1u);
     EXPECT_TRUE(session.history().done()[0].solid);
@@ -108,8 +108,8 @@ TEST(StudioConstructions, ThreeSectionsFromPenStrokesOnThreeViews) {
 }
 
 TEST(StudioConstructions, RedrawingTheBackLineTallerRegeneratesTheSolid) {
-    Session session(emptyConfig());
-    Studio studio(session);
+    Studio studio(emptyConfig());
+    const Session& session = studio.session();
     run(studio, threeSectionScript(20));
     const uint64_t first = core::canonicalMeshHash(session.view().mesh());
     const double firstTop = core::meshBounds(session.wholeMesh()).max.z;
@@ -129,8 +129,8 @@ TEST(StudioConstructions, RedrawingTheBackLineTallerRegeneratesTheSolid) {
 }
 
 TEST(StudioConstructions, CutStrokeTakesOffOneSide) {
-    Session session(emptyConfig());
-    Studio studio(session);
+    Studio studio(emptyConfig());
+    const Session& session = studio.session();
     run(studio, "page body\n" +
                     pen(
                         [](double t) {
@@ -155,8 +155,8 @@ TEST(StudioConstructions, CutStrokeTakesOffOneSide) {
 }
 
 TEST(StudioConstructions, ExtrudeRaisesAProtrusion) {
-    Session session(emptyConfig());
-    Studio studio(session);
+    Studio studio(emptyConfig());
+    const Session& session = studio.session();
     // A disc inflated on the top view (thick in z).
     run(studio, "page top-body\n" +
                     pen(

@@ -26,7 +26,15 @@
 #include <utility>
 #include <vector>
 
-namespace vsculpt::sketch {
+namespace vsculpt::studio {
+
+// The pure geometry the document is made of (core/sketch).
+using sketch::CleanCurve;
+using sketch::CleanupParams;
+using sketch::CleanupSession;
+using sketch::Polyline2;
+using sketch::Stroke;
+using sketch::StrokeKind;
 
 // ---------------------------------------------------------------------------------------------
 // Canvas view
@@ -409,4 +417,4 @@ class SketchDocument {
     std::size_t current_ = 0;
 };
 
-}  // namespace vsculpt::sketch
+}  // namespace vsculpt::studio

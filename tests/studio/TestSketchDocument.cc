@@ -1,6 +1,6 @@
 // The sketch mode's model: view transforms, pen input, ink, undo/redo, history, selection,
 // clean-up mode, roles, pages and the JSON file format.
-#include "vsculpt/sketch/SketchDocument.h"
+#include "vsculpt/studio/SketchDocument.h"
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -13,7 +13,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace vsculpt::sketch {
+namespace vsculpt::studio {
 namespace {
 
 // Small deterministic generator (std distributions differ between standard libraries).
@@ -198,7 +198,7 @@ TEST(SketchPen, BadInputIsRejectedAndHoverNeverInks) {
 // something to act on.
 SketchPage busyPage() {
     SketchParams params;
-    params.cleanup.trigger = CleanupTrigger::Explicit;
+    params.cleanup.trigger = sketch::CleanupTrigger::Explicit;
     SketchPage page("p", "g", params);
     draw(page, segment({0, 0}, {20, 0}), 0.0, 0.4);
     draw(page, segment({0, 10}, {20, 15}), 1.0, 0.8);
@@ -282,7 +282,7 @@ TEST(SketchUndo, EveryActionTypeUndoesToTheExactPriorState) {
 
 TEST(SketchUndo, RandomSequencesUndoneToTheStartEqualTheEmptyPage) {
     SketchParams params;
-    params.cleanup.trigger = CleanupTrigger::PauseTime;
+    params.cleanup.trigger = sketch::CleanupTrigger::PauseTime;
     const PageContent empty = SketchPage("e", "g", params).content();
     int checked = 0, cleanups = 0;
     for (std::uint64_t seed = 1; seed <= 12; ++seed) {
@@ -458,7 +458,7 @@ TEST(SketchEdit, LassoNearestMoveAndScale) {
 
 TEST(SketchCleanup, ThreeOverdrawnStrokesBecomeOneLineAndUndoRestoresPending) {
     SketchParams params;
-    params.cleanup.trigger = CleanupTrigger::PauseTime;
+    params.cleanup.trigger = sketch::CleanupTrigger::PauseTime;
     SketchPage page("p", "g", params);
     page.setMode(SketchMode::Cleanup);
     page.setKind(StrokeKind::Line);
@@ -503,7 +503,7 @@ TEST(SketchCleanup, ThreeOverdrawnStrokesBecomeOneLineAndUndoRestoresPending) {
 
 TEST(SketchCleanup, PressureTriggerAndKindChangeEndGroupsAsTheirOwnActions) {
     SketchParams params;
-    params.cleanup.trigger = CleanupTrigger::Pressure;
+    params.cleanup.trigger = sketch::CleanupTrigger::Pressure;
     SketchPage page("p", "g", params);
     page.setMode(SketchMode::Cleanup);
     page.setKind(StrokeKind::Line);
@@ -534,7 +534,7 @@ TEST(SketchCleanup, PressureTriggerAndKindChangeEndGroupsAsTheirOwnActions) {
 
 TEST(SketchRoles, PolylinesPerRolePreferCleanCurves) {
     SketchParams params;
-    params.cleanup.trigger = CleanupTrigger::Explicit;
+    params.cleanup.trigger = sketch::CleanupTrigger::Explicit;
     SketchPage page("p", "g", params);
     const int outline = *draw(page, segment({0, 0}, {10, 10}), 0.0);
     page.setMode(SketchMode::Cleanup);
@@ -600,7 +600,7 @@ TEST(SketchPages, PagesGroupsAndPerPageUndo) {
 
 SketchDocument sampleDocument() {
     SketchParams params;
-    params.cleanup.trigger = CleanupTrigger::Explicit;
+    params.cleanup.trigger = sketch::CleanupTrigger::Explicit;
     SketchDocument doc(params);
     Rng rng{99};
     {
@@ -756,4 +756,4 @@ TEST(SketchFile, BadFilesNameTheField) {
 }
 
 }  // namespace
-}  // namespace vsculpt::sketch
+}  // namespace vsculpt::studio

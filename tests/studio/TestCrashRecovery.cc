@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // kill -9 at random moments of a recorded session, 20 times: reopening the project must give
 // exactly the sculpture of replaying the journal's complete prefix of edits.
-#include "vsculpt/app/Session.h"
+#include "vsculpt/studio/Session.h"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -19,7 +19,7 @@
 extern char** environ;
 
 using namespace vsculpt;
-using namespace vsculpt::app;
+using namespace vsculpt::studio;
 using core::Vec3;
 
 namespace {

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 // A sketched solid added to a sculpting session (issue #7 item 7): one undo step, the same
 // polygonizer (incremental == full), watertight result, journaled and recovered exactly.
-#include "vsculpt/app/Session.h"
+#include "vsculpt/studio/Session.h"
 #include "vsculpt/core/PlaceStroke.h"
 
 #include "../TestSolids.h"
-#include "AppTestUtil.h"
+#include "../TestFixtures.h"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@
 #include <random>
 
 using namespace vsculpt;
-using namespace vsculpt::app;
+using namespace vsculpt::studio;
 using core::Vec3;
 
 namespace {
@@ -96,6 +96,7 @@ TEST(SketchSolid, ProjectKeepsSolidsThroughSnapshotAndJournal) {
     s->undo();
     EXPECT_EQ(viewHash(*s), expectedAfterUndo);
     s->save();
+    s.reset();  // closed: a project is open in one place at a time
     auto again = Session::openProject(dir.path, smallConfig());
     EXPECT_EQ(viewHash(*again), expectedAfterUndo);
     again->redo();

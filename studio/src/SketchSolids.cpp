@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "vsculpt/app/SketchSolids.h"
+#include "vsculpt/studio/SketchSolids.h"
 
 #include "vsculpt/sketch/StrokeClosedness.h"
 
@@ -7,7 +7,7 @@
 
 #include <stdexcept>
 
-namespace vsculpt::app {
+namespace vsculpt::studio {
 
 sketch::SolidConstruction constructionFromName(const std::string& name) {
     using C = sketch::SolidConstruction;
@@ -18,11 +18,11 @@ sketch::SolidConstruction constructionFromName(const std::string& name) {
 }
 
 sketch::SketchSolidInput sketchSolidInput(sketch::SolidConstruction construction,
-                                          const sketch::SketchDocument& document,
+                                          const studio::SketchDocument& document,
                                           size_t currentPage,
                                           const std::vector<sketch::SketchPlane>& planes,
                                           const std::optional<sketch::PolyMesh>& previous) {
-    using R = sketch::Role;
+    using R = studio::Role;
     struct Found {
         sketch::SketchCurve curve;
         sketch::SketchPlane plane;
@@ -36,7 +36,7 @@ sketch::SketchSolidInput sketchSolidInput(sketch::SolidConstruction construction
     // The first polyline with `role` (and, when given, closedness).
     auto find = [&](R role, std::optional<bool> closed = std::nullopt) -> std::optional<Found> {
         for (size_t page : order)
-            for (const sketch::RolePolyline& r : document.page(page).rolePolylines())
+            for (const studio::RolePolyline& r : document.page(page).rolePolylines())
                 if (r.role == role) {
                     // A raw stroke counts as closed when it ends where it began, as loosely
                     // as designers close loops (StrokeClosedness.h).
@@ -106,4 +106,4 @@ core::Mesh toMesh(const sketch::TriangleMesh& triangles) {
     return m;
 }
 
-}  // namespace vsculpt::app
+}  // namespace vsculpt::studio

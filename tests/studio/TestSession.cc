@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-#include "vsculpt/app/Session.h"
+#include "vsculpt/studio/Session.h"
 
-#include "AppTestUtil.h"
+#include "../TestFixtures.h"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <random>
 
 using namespace vsculpt;
-using namespace vsculpt::app;
+using namespace vsculpt::studio;
 using core::Vec3;
 
 namespace {
@@ -69,8 +69,9 @@ TEST(Session, ARefusedSampleCancelsTheWholeStroke) {
     Session s(smallConfig());
     const uint64_t before = viewHash(s);
     s.setSize(5);
+    // A refusal is the user's input (SessionError), never an invariant failure (logic_error).
     EXPECT_THROW(s.stroke({Vec3(0, 0, 30), Vec3(5, 0, 30), Vec3(1e7, 0, 0)}, false),
-                 std::invalid_argument);
+                 SessionError);
     EXPECT_EQ(viewHash(s), before);
     EXPECT_EQ(s.sculpture().store().vertexCount(), 0u);
     EXPECT_FALSE(s.history().canUndo());
@@ -154,24 +155,37 @@ TEST(Session, DamagedJournalTailIsDroppedAndReported) {
     EXPECT_EQ(s->verifyMesh(), "");
 }
 
-TEST(Session, DamagedSnapshotIsAClearError) {
+TEST(Session, DamagedSnapshotIsRecoveredFromItsBackup) {
     TempDir dir;
+    uint64_t expected = 0;
     {
         auto s = Session::openProject(dir.path, smallConfig());
         sculptSome(*s, 2, 7);
-        s->save();
+        s->save();  // the first snapshot with edits; the empty one becomes its backup
+        sculptSome(*s, 2, 8);
+        s->save();  // the previous snapshot and its journal become the backup
+        sculptSome(*s, 1, 9);  // journaled only
+        expected = viewHash(*s);
     }
     const auto snap = core::snapshotPath(dir.path);
     std::filesystem::resize_file(snap, std::filesystem::file_size(snap) - 10);
+    {
+        // One damaged snapshot loses nothing: backup + its journal + the journal.
+        auto s = Session::openProject(dir.path, smallConfig());
+        EXPECT_EQ(viewHash(*s), expected);
+        EXPECT_NE(s->recoveryWarning().find("snapshot.vsnap"), std::string::npos)
+            << s->recoveryWarning();
+        EXPECT_EQ(s->verifyMesh(), "");
+    }
+    // With the backup damaged too nothing usable is left: a clear error naming the file.
+    const std::filesystem::path backup = snap.string() + ".bak";
+    std::filesystem::resize_file(backup, std::filesystem::file_size(backup) / 2);
     try {
         Session::openProject(dir.path, smallConfig());
         FAIL() << "no error";
     } catch (const core::ProjectError& e) {
         EXPECT_NE(std::string(e.what()).find("snapshot.vsnap"), std::string::npos) << e.what();
     }
-    std::ofstream(core::journalPath(dir.path), std::ios::trunc) << "garbage!";
-    std::filesystem::remove(snap);
-    EXPECT_THROW(Session::openProject(dir.path, smallConfig()), core::ProjectError);
 }
 
 TEST(Session, ConfigRoundTripsThroughJson) {

@@ -2,16 +2,18 @@
 /// @file Session.h
 /// @brief A sculpting session: the sculpture, its polygonized view at the current zoom,
 /// the tool state, undo history and (optionally) the crash-safe project it writes to.
-/// Driven by playback scripts now, by the window and devices later.
+/// Applications change it only through a Studio (Studio.h), which keeps the one undo
+/// timeline; the session's own mutators are for the studio and for tests.
 #pragma once
 
-#include "vsculpt/app/Script.h"
+#include "vsculpt/studio/Script.h"
 #include "vsculpt/core/Config.h"
 #include "vsculpt/core/History.h"
 #include "vsculpt/core/Mesh.h"
 #include "vsculpt/core/PlaceStroke.h"
 #include "vsculpt/core/Polygonizer.h"
 #include "vsculpt/core/Project.h"
+#include "vsculpt/core/ProjectLock.h"
 #include "vsculpt/core/Sculpture.h"
 
 #include <filesystem>
@@ -20,22 +22,40 @@
 #include <string>
 #include <vector>
 
-namespace vsculpt::app {
+namespace vsculpt::studio {
 
-/// A refused operation (size not offered at this zoom, stroke with the select tool, ...).
+/// A refused operation (size not offered at this zoom, stroke with the select tool, a tool
+/// sample the lattices cannot hold, ...): the user's input, not a bug. Invariant failures
+/// are std::logic_error and are never reported as refusals.
 class SessionError : public std::runtime_error {
   public:
     using std::runtime_error::runtime_error;
 };
 
+/// How a project is opened. ReadOnly never writes to the folder (no journal truncation, no
+/// snapshot, no lock file; works on read-only media): `vsculpt render PROJECT`.
+enum class ProjectMode { ReadWrite, ReadOnly };
+
+/// The sections of a config that belong to the machine, not the sculpture (key bindings,
+/// display and lens, USB tables, tracker calibration): a project does not store them and a
+/// reopened project takes them from the config in use.
+void takeMachineSettings(core::SculptConfig& projectConfig, const core::SculptConfig& machine);
+/// The config as a project stores it: without the machine's sections.
+std::string projectConfigJson(const core::SculptConfig& cfg);
+
 class Session {
   public:
     /// A session without a project (nothing is written to disk).
     explicit Session(const core::SculptConfig& cfg);
-    /// Opens the project in `dir`, or creates it with `cfgForNew` when the folder holds none.
-    /// Recovers the journal tail; what was dropped is in recoveryWarning().
+    /// Opens the project in `dir`, or creates it with `cfg` when the folder holds none (not in
+    /// ReadOnly mode: then a missing project is a ProjectError). The sculpture's settings
+    /// come from the project, the machine's (takeMachineSettings) from `cfg`. Recovers the
+    /// journal tail (and a damaged snapshot from its backup); what was dropped is in
+    /// recoveryWarning(). ReadWrite locks the project while the session lives: a second
+    /// process gets a ProjectError naming the holder.
     static std::unique_ptr<Session> openProject(const std::filesystem::path& dir,
-                                                const core::SculptConfig& cfgForNew);
+                                                const core::SculptConfig& cfg,
+                                                ProjectMode mode = ProjectMode::ReadWrite);
     ~Session();
 
     // Tool state ------------------------------------------------------------------------
@@ -80,8 +100,10 @@ class Session {
     int addSolid(const core::Mesh& solid, int level = 0, bool replaceLast = false);
     bool undo();
     bool redo();
-    /// Writes a snapshot and empties the journal (projects only; no-op otherwise).
+    /// Writes a snapshot and starts a new journal, keeping the previous pair as a backup
+    /// (projects only; no-op otherwise). Throws SessionError for a read-only project.
     void save();
+    bool readOnly() const { return mReadOnly; }
 
     /// `--check`: empty when the incremental mesh equals a full rebuild.
     std::string verifyMesh() const;
@@ -101,7 +123,8 @@ class Session {
     uint64_t editSequence() const { return mSequence; }
 
     /// The whole sculpture polygonized at `spacingMm` (0: the zoom-1 spacing), for exports
-    /// and statistics. Throws SessionError if the grid would exceed 1024 cells per axis.
+    /// and statistics. Throws SessionError for a spacing that is not finite and positive, or
+    /// when the grid would exceed 1024 cells per axis.
     core::Mesh wholeMesh(double spacingMm = 0) const;
 
   private:
@@ -125,10 +148,12 @@ class Session {
     core::StrokeRecord mStrokeRecord;
 
     std::optional<std::filesystem::path> mProjectDir;
+    std::unique_ptr<core::ProjectLock> mLock;
     std::unique_ptr<core::JournalWriter> mJournal;
+    bool mReadOnly = false;
     uint64_t mSequence = 0;
     std::string mRecoveryWarning;
     size_t mRecovered = 0;
 };
 
-}  // namespace vsculpt::app
+}  // namespace vsculpt::studio

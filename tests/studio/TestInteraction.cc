@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 // The interaction state machine driven by synthetic events.
-#include "vsculpt/app/Interaction.h"
+#include "vsculpt/studio/Interaction.h"
 
 #include <gtest/gtest.h>
 
 using namespace vsculpt;
-using namespace vsculpt::app;
+using namespace vsculpt::studio;
 using core::Vec3;
 
 namespace {
@@ -18,8 +18,9 @@ core::SculptConfig config() {
 }
 
 TEST(Interaction, RightButtonCyclesAddCarveSelect) {
-    Session s(config());
-    Interaction ui(s);
+    Studio studio(config());
+    const Session& s = studio.session();
+    Interaction ui(studio);
     EXPECT_EQ(s.tool(), ToolKind::Add);
     ui.cycleTool();
     EXPECT_EQ(s.tool(), ToolKind::Carve);
@@ -30,8 +31,9 @@ TEST(Interaction, RightButtonCyclesAddCarveSelect) {
 }
 
 TEST(Interaction, LeftButtonStepsThroughOfferedSizesAndWraps) {
-    Session s(config());
-    Interaction ui(s);
+    Studio studio(config());
+    const Session& s = studio.session();
+    Interaction ui(studio);
     EXPECT_EQ(ui.offeredSizes(), (std::vector<int>{7, 6, 5}));
     EXPECT_EQ(s.size(), 7);
     std::vector<int> seen;
@@ -43,8 +45,9 @@ TEST(Interaction, LeftButtonStepsThroughOfferedSizesAndWraps) {
 }
 
 TEST(Interaction, SelectToolZoomsIntoTheRegionUnderIt) {
-    Session s(config());
-    Interaction ui(s);
+    Studio studio(config());
+    const Session& s = studio.session();
+    Interaction ui(studio);
     ui.cycleTool();
     ui.cycleTool();  // select
     const Vec3 under(5, -3, 30);
@@ -65,8 +68,9 @@ TEST(Interaction, SelectToolZoomsIntoTheRegionUnderIt) {
 }
 
 TEST(Interaction, DirectJumpsOnlyToOfferedSizes) {
-    Session s(config());
-    Interaction ui(s);
+    Studio studio(config());
+    const Session& s = studio.session();
+    Interaction ui(studio);
     EXPECT_FALSE(ui.jumpToSize(3));  // not at zoom 1
     EXPECT_EQ(s.size(), 7);
     EXPECT_TRUE(ui.jumpToSize(5));
@@ -79,8 +83,9 @@ TEST(Interaction, DirectJumpsOnlyToOfferedSizes) {
 }
 
 TEST(Interaction, EngagedMovesMakeOneUndoStepPerEngagement) {
-    Session s(config());
-    Interaction ui(s);
+    Studio studio(config());
+    const Session& s = studio.session();
+    Interaction ui(studio);
     ui.jumpToSize(5);
     ui.moveTool(Vec3(0, 0, 30));  // not engaged: nothing
     EXPECT_FALSE(s.history().canUndo());
@@ -103,8 +108,9 @@ TEST(Interaction, EngagedMovesMakeOneUndoStepPerEngagement) {
 }
 
 TEST(Interaction, ThesisModeIsAlwaysEngagedAndToolChangesEndTheStroke) {
-    Session s(config());
-    Interaction ui(s, /*alwaysEngaged=*/true);
+    Studio studio(config());
+    const Session& s = studio.session();
+    Interaction ui(studio, /*alwaysEngaged=*/true);
     ui.jumpToSize(6);
     ui.moveTool(Vec3(0, 0, 30));
     ui.moveTool(Vec3(4, 0, 30));
@@ -112,7 +118,10 @@ TEST(Interaction, ThesisModeIsAlwaysEngagedAndToolChangesEndTheStroke) {
     ui.moveTool(Vec3(8, 0, 30));
     ui.cycleTool();  // carve: another stroke
     ui.moveTool(Vec3(8, 0, 31));
-    s.endStroke();
+    // Every stroke ended by a tool change is on the one timeline at once, not when polled.
+    EXPECT_EQ(studio.stepCount(), 2u);
+    studio.endStroke();
+    EXPECT_EQ(studio.stepCount(), 3u);
     EXPECT_EQ(s.history().done().size(), 3u);
     EXPECT_EQ(s.history().done()[0].level, 6);
     EXPECT_EQ(s.history().done()[1].level, 5);

@@ -1,0 +1,106 @@
+// SPDX-License-Identifier: MIT
+/// @file Rig.h
+/// @brief What every session of the program is built from, built one way: the studio (with
+/// its project), the interaction state machine, and the devices mapped onto them. The
+/// sculpting window, the sketch window and `vsculpt play` all get theirs here, so a session
+/// saves, recovers and sculpts the same whichever front end runs it.
+#pragma once
+
+#include "vsculpt/app/DeviceInput.h"
+#include "vsculpt/app/LiveDevices.h"
+#include "vsculpt/render/ProjectStroke.h"
+#include "vsculpt/studio/Interaction.h"
+#include "vsculpt/studio/Studio.h"
+
+#include <filesystem>
+#include <iosfwd>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace vsculpt::app {
+
+/// Where a window's work goes when no --project is given.
+enum class ProjectChoice {
+    None,      ///< nothing saved (play without --project)
+    Given,     ///< RigOptions::projectDir
+    Autosave,  ///< the last project, or a new autosave project (windows' default)
+};
+
+struct RigOptions {
+    ProjectChoice project = ProjectChoice::None;
+    std::filesystem::path projectDir;  ///< ProjectChoice::Given
+    studio::ProjectMode mode = studio::ProjectMode::ReadWrite;
+    bool liveDevices = false;     ///< open the connected trackers, 3D mice, tablets, headsets
+    bool alwaysEngaged = false;   ///< the thesis's always-engaged pen (Interaction.h)
+    std::string who = "vsculpt";  ///< message prefix
+};
+
+/// The folder projects live in by default: $XDG_DATA_HOME/vsculpt (~/.local/share/vsculpt).
+std::filesystem::path dataDir();
+/// The project the windows opened last, when it still exists.
+std::optional<std::filesystem::path> lastProject();
+/// Remembers `dir` as the last project (best effort: a failure is only reported).
+void rememberLastProject(const std::filesystem::path& dir, std::ostream& err);
+/// A new, unused folder under dataDir()/`kind` named after the local time.
+std::filesystem::path newProjectDir(const std::string& kind);
+
+/// The camera of a `viewportPx` view framing the sculpture's current mesh from the front (the
+/// window's camera at the start): what `model-line` script strokes are drawn over.
+render::ProjectionCamera frontCamera(const studio::Session& session, glm::ivec2 viewportPx);
+/// A stroke drawn over `camera`'s view projected onto the mesh on show with the ray tracer:
+/// the pieces on the surface (object mm), points a third of the view's grid spacing apart.
+std::vector<std::vector<core::Vec3>> projectOnModel(const studio::Session& session,
+                                                     const std::vector<glm::dvec2>& strokePx,
+                                                     const render::ProjectionCamera& camera);
+
+class Rig {
+  public:
+    /// Opens the studio (and its project) and, when asked, the devices. Throws
+    /// core::ProjectError (a project that cannot be opened, one open elsewhere),
+    /// std::invalid_argument (a damaged sketch.json).
+    Rig(const core::SculptConfig& cfg, const RigOptions& options, std::ostream& log);
+    ~Rig();
+
+    studio::Studio& studio() { return *mStudio; }
+    const studio::Session& session() const { return mStudio->session(); }
+    studio::Interaction& interaction() { return *mInteraction; }
+    DeviceInput* devices() { return mDevices.get(); }
+    /// Replayed device streams: a DeviceInput on this rig's studio for recorded rules.
+    DeviceInput& replayDevices(std::vector<devices::DeviceRule> rules);
+
+    /// Hands queued device events to the mapping; arrivals and departures are reported on
+    /// `log`. Device failures are reported, never thrown.
+    void pumpDevices(std::ostream& log);
+
+    /// A line for the user about the project: where it is, what was recovered.
+    std::string projectSummary() const;
+
+    /// Save: a snapshot of the project (nothing to do without one). Returns what it did.
+    std::string save();
+    /// Save as: the whole project copied to `dir` (a new folder) and continued there; the
+    /// old project stays as it was at this moment. Returns what it did.
+    std::string saveAs(const std::filesystem::path& dir);
+    /// The whole sculpture exported to `path` (format from the extension; ExportMesh.h).
+    std::string exportTo(const std::filesystem::path& path);
+    /// Saves this project and continues in a new autosave project (an empty sculpture).
+    std::string newProject();
+    /// The windows' project keys: "save", "save_as" (to a new folder under dataDir()/projects),
+    /// "export" (a .glb in the project's exports/ folder), "new_project". Returns what was
+    /// done, for the user; false from handles() for any other action.
+    static bool handles(const std::string& action);
+    std::string projectAction(const std::string& action);
+
+  private:
+    void openStudio(const std::filesystem::path& dir, std::ostream& log);
+    void rebuildInput();
+
+    core::SculptConfig mConfig;
+    RigOptions mOptions;
+    std::unique_ptr<studio::Studio> mStudio;
+    std::unique_ptr<studio::Interaction> mInteraction;
+    std::unique_ptr<LiveDevices> mLive;
+    std::unique_ptr<DeviceInput> mDevices;
+};
+
+}  // namespace vsculpt::app

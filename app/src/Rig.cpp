@@ -1,0 +1,258 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/app/Rig.h"
+
+#include "vsculpt/core/ExportMesh.h"
+#include "vsculpt/core/Project.h"
+#include "vsculpt/core/WriteFileAtomically.h"
+#include "vsculpt/core/Zoom.h"
+#include "vsculpt/render/StereoCamera.h"
+
+#include <glm/gtc/quaternion.hpp>
+
+#include <cstdlib>
+#include <ctime>
+#include <fstream>
+#include <iostream>
+#include <ostream>
+#include <sstream>
+
+namespace vsculpt::app {
+
+using namespace vsculpt::studio;
+
+std::filesystem::path dataDir() {
+    const char* xdg = std::getenv("XDG_DATA_HOME");
+    if (xdg && *xdg == '/') return std::filesystem::path(xdg) / "vsculpt";
+    const char* home = std::getenv("HOME");
+    if (home && *home) return std::filesystem::path(home) / ".local" / "share" / "vsculpt";
+    return std::filesystem::temp_directory_path() / "vsculpt";
+}
+
+std::optional<std::filesystem::path> lastProject() {
+    std::ifstream in(dataDir() / "last-project");
+    std::string line;
+    if (!std::getline(in, line) || line.empty()) return std::nullopt;
+    const std::filesystem::path dir(line);
+    std::error_code ec;
+    if (!std::filesystem::exists(core::snapshotPath(dir), ec)) return std::nullopt;
+    return dir;
+}
+
+void rememberLastProject(const std::filesystem::path& dir, std::ostream& err) {
+    try {
+        std::filesystem::create_directories(dataDir());
+        core::writeFileAtomically(dataDir() / "last-project",
+                                  std::filesystem::absolute(dir).string() + "\n", false);
+    } catch (const std::exception& e) {
+        err << "vsculpt: warning: cannot remember the last project: " << e.what() << "\n";
+    }
+}
+
+std::filesystem::path newProjectDir(const std::string& kind) {
+    const std::time_t now = std::time(nullptr);
+    std::tm local{};
+    localtime_r(&now, &local);
+    char stamp[32];
+    std::strftime(stamp, sizeof stamp, "%Y-%m-%d-%H%M%S", &local);
+    const std::filesystem::path base = dataDir() / kind;
+    for (int i = 0;; ++i) {
+        std::filesystem::path dir = base / (std::string(stamp) + (i ? "-" + std::to_string(i) : ""));
+        if (!std::filesystem::exists(dir)) return dir;
+    }
+}
+
+render::ProjectionCamera frontCamera(const Session& session, glm::ivec2 viewportPx) {
+    if (viewportPx.x <= 0 || viewportPx.y <= 0)
+        throw std::invalid_argument("model view size must be positive");
+    const core::Aabb box = core::meshBounds(session.view().mesh());
+    if (box.empty()) throw std::invalid_argument("nothing to draw on: the sculpture is empty");
+    const glm::dmat4 worldFromObject = session.objectPose().matrix();
+    // As the window frames it: the box after the object's pose, seen from the front.
+    const glm::dvec3 c = glm::dvec3(worldFromObject * glm::dvec4(0.5 * (box.min + box.max), 1));
+    const glm::dvec3 half = 0.5 * (box.max - box.min);
+    render::StereoDisplay d;
+    const glm::dmat4 head =
+        render::frameFromFront(c - half, c + half, double(viewportPx.x) / viewportPx.y, d);
+    d.ipdMm = 0;
+    return render::ProjectionCamera::fromEye(render::stereoEyes(head, d)[0], worldFromObject,
+                                             viewportPx);
+}
+
+std::vector<std::vector<core::Vec3>> projectOnModel(const Session& session,
+                                                     const std::vector<glm::dvec2>& strokePx,
+                                                     const render::ProjectionCamera& camera) {
+    const core::Mesh mesh = session.view().mesh();
+    if (mesh.triangleCount() == 0 || strokePx.empty()) return {};
+    render::StrokeProjectionOptions o;
+    // Points about a third of the finest lattice spacing on show apart: smooth at any zoom.
+    o.spacingMm = std::max(0.05, session.view().region().spacingMm / 3);
+    o.maxDepthJumpMm = std::max(o.spacingMm, 10 * session.view().region().spacingMm);
+    std::vector<std::vector<core::Vec3>> lines;
+    for (const auto& piece : render::projectStroke(mesh, camera, strokePx, o)) {
+        std::vector<core::Vec3> line;
+        for (const render::SurfacePoint& p : piece)
+            line.push_back(p.position);
+        lines.push_back(std::move(line));
+    }
+    return lines;
+}
+
+Rig::Rig(const core::SculptConfig& cfg, const RigOptions& options, std::ostream& log)
+    : mConfig(cfg), mOptions(options) {
+    switch (options.project) {
+        case ProjectChoice::None:
+            mStudio = std::make_unique<Studio>(cfg);
+            break;
+        case ProjectChoice::Given:
+            openStudio(options.projectDir, log);
+            break;
+        case ProjectChoice::Autosave: {
+            // The last project, unless it cannot be opened (open in another vsculpt, damaged
+            // beyond recovery): then a new one, so the session always has somewhere to save.
+            if (const auto last = lastProject()) {
+                try {
+                    openStudio(*last, log);
+                } catch (const std::exception& e) {
+                    log << options.who << ": the last project cannot be opened: " << e.what()
+                        << "\n";
+                }
+            }
+            if (!mStudio) openStudio(newProjectDir("autosave"), log);
+            break;
+        }
+    }
+    if (mStudio->session().projectDir() && options.mode == ProjectMode::ReadWrite &&
+        options.project == ProjectChoice::Autosave)
+        rememberLastProject(*mStudio->session().projectDir(), log);
+    if (options.liveDevices) mLive = std::make_unique<LiveDevices>(cfg.devices, log);
+    rebuildInput();
+}
+
+Rig::~Rig() = default;
+
+void Rig::openStudio(const std::filesystem::path& dir, std::ostream&) {
+    mStudio = Studio::openProject(dir, mConfig, mOptions.mode);
+    mStudio->setSurfaceProjector(
+        [](const Session& s, const std::vector<glm::dvec2>& px, glm::ivec2 viewport) {
+            return projectOnModel(s, px, frontCamera(s, viewport));
+        });
+}
+
+DeviceInput& Rig::replayDevices(std::vector<devices::DeviceRule> rules) {
+    mDevices =
+        std::make_unique<DeviceInput>(mConfig.devices, std::move(rules), *mInteraction, *mStudio);
+    return *mDevices;
+}
+
+void Rig::pumpDevices(std::ostream& log) {
+    if (!mLive) return;
+    try {
+        mLive->pump([&](const devices::DeviceEvent& e) {
+            if (e.kind == devices::DeviceEventKind::Arrived ||
+                e.kind == devices::DeviceEventKind::Left)
+                log << mOptions.who << ": " << e.device
+                    << (e.kind == devices::DeviceEventKind::Arrived ? " connected\n"
+                                                                    : " disconnected\n");
+            mDevices->handle(e);
+        });
+        mLive->send(mDevices->takeOutput());
+    } catch (const std::logic_error&) {
+        throw;  // a broken invariant is a bug, not a device failure
+    } catch (const std::exception& e) {
+        log << mOptions.who << ": " << e.what() << "\n";
+    }
+}
+
+std::string Rig::projectSummary() const {
+    const Session& s = mStudio->session();
+    if (!s.projectDir()) return "no project: nothing is saved (use --project DIR)";
+    std::ostringstream o;
+    o << "project " << s.projectDir()->string();
+    if (s.readOnly()) o << " (read-only)";
+    if (s.recoveredEdits() > 0)
+        o << ": recovered " << s.recoveredEdits() << " edit(s) from the journal since the last save";
+    if (!s.recoveryWarning().empty()) o << "\n" << s.recoveryWarning();
+    return o.str();
+}
+
+std::string Rig::save() {
+    if (!mStudio->session().projectDir()) return "nothing saved: no project";
+    mStudio->save();
+    return "saved " + mStudio->session().projectDir()->string();
+}
+
+std::string Rig::saveAs(const std::filesystem::path& dir) {
+    if (std::filesystem::exists(dir) && !std::filesystem::is_empty(dir))
+        throw core::ProjectError(dir.string() + ": save as needs a new or empty folder");
+    if (const auto& from = mStudio->session().projectDir()) {
+        // A snapshot absorbs the journal; the copy is then the snapshot and the sketch.
+        mStudio->save();
+        std::filesystem::create_directories(dir);
+        for (const char* name : {"snapshot.vsnap", "sketch.json"})
+            if (std::filesystem::exists(*from / name))
+                std::filesystem::copy_file(*from / name, dir / name);
+    } else {
+        throw core::ProjectError("this session has no project (started without one): "
+                                 "nothing to save as");
+    }
+    const core::RigidTransform pose = mStudio->session().objectPose();
+    mDevices.reset();
+    mInteraction.reset();
+    mStudio.reset();  // unlocks the old project
+    openStudio(dir, std::cerr);
+    mStudio->setObjectPose(pose);
+    rebuildInput();
+    rememberLastProject(dir, std::cerr);
+    return "saved as " + dir.string() + " (continuing there)";
+}
+
+void Rig::rebuildInput() {
+    mInteraction = std::make_unique<Interaction>(*mStudio, mOptions.alwaysEngaged);
+    if (mLive)
+        mDevices = std::make_unique<DeviceInput>(mConfig.devices, mLive->rules(), *mInteraction,
+                                                 *mStudio);
+}
+
+std::string Rig::newProject() {
+    std::string saved;
+    if (mStudio->session().projectDir() && !mStudio->session().readOnly()) saved = save() + "; ";
+    const std::filesystem::path dir = newProjectDir("autosave");
+    mDevices.reset();
+    mInteraction.reset();
+    mStudio.reset();
+    openStudio(dir, std::cerr);
+    rebuildInput();
+    rememberLastProject(dir, std::cerr);
+    return saved + "new project " + dir.string();
+}
+
+bool Rig::handles(const std::string& action) {
+    return action == "save" || action == "save_as" || action == "export" ||
+           action == "new_project";
+}
+
+std::string Rig::projectAction(const std::string& action) {
+    if (action == "save") return save();
+    if (action == "save_as") return saveAs(newProjectDir("projects"));
+    if (action == "new_project") return newProject();
+    if (action == "export") {
+        const auto& dir = mStudio->session().projectDir();
+        const std::filesystem::path folder = dir ? *dir / "exports" : dataDir() / "exports";
+        return exportTo(folder / (newProjectDir("x").filename().string() + ".glb"));
+    }
+    throw std::logic_error("not a project action: " + action);
+}
+
+std::string Rig::exportTo(const std::filesystem::path& path) {
+    const Session& s = mStudio->session();
+    const double spacing = core::zoomSpacing(mConfig, s.sculpture().levels(), 1);
+    const core::Mesh mesh = s.wholeMesh(spacing);
+    core::ExportOptions eo;
+    eo.voxelSizeMm = spacing;
+    if (!path.parent_path().empty()) std::filesystem::create_directories(path.parent_path());
+    core::exportMesh(mesh, path, eo);
+    return "exported " + path.string() + " (" + std::to_string(mesh.triangleCount()) +
+           " triangles)";
+}
+
+}  // namespace vsculpt::app

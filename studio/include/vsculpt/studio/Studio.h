@@ -1,0 +1,189 @@
+// SPDX-License-Identifier: MIT
+/// @file Studio.h
+/// @brief The one editing entry: the session (sculpture, view, history, project journal), the
+/// sketch document, and ONE undo timeline across sculpt and sketch steps
+/// (docs/sketch-mode.md). Playback, the sculpting window, the sketch window, device input and
+/// tests all change the sculpture through a Studio and nothing else; they read it through
+/// `session()`, which is const. What a designer does in either mode is undone in the order
+/// it was done, and every step reaches the timeline when it is made (nothing is polled).
+///
+/// Ownership: the studio owns its Session. In a project folder it writes the document and
+/// the timeline to `sketch.json` (atomically) after every step, so no sketch work is lost;
+/// the session journals every sculpt step before it counts as done.
+#pragma once
+
+#include "vsculpt/studio/Script.h"
+#include "vsculpt/studio/Session.h"
+#include "vsculpt/studio/SketchDocument.h"
+#include "vsculpt/sketch/SketchSolid.h"
+
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace vsculpt::studio {
+
+/// Which view a page is drawn on: how its canvas millimetres map into object space (z up;
+/// SketchSolid.h). Front: canvas (x, y) -> object (x, z); side: (y, z); top: (x, y).
+using SketchPlane = sketch::SketchPlane;
+
+/// The sketch settings vsculpt uses: the seed's, except feature points refined along bent
+/// strokes (featureChordRatio 0.05) and overdrawn lines averaged (lineRunningMean), which
+/// converge where the seed's three points per stroke do not (docs/sketch-cleanup.md).
+studio::SketchParams recommendedSketchParams();
+
+/// Turns a stroke drawn over a `viewportPx` front view of the sculpture (pixels, origin top
+/// left; framed from the front as the window starts) into polylines on the sculpture's surface (object mm).
+/// The app installs one built on its ray tracer; the studio itself has no renderer.
+using SurfaceProjector = std::function<std::vector<std::vector<core::Vec3>>(
+    const Session& session, const std::vector<glm::dvec2>& strokePx, glm::ivec2 viewportPx)>;
+
+class Studio {
+  public:
+    /// A studio without a project (nothing is written to disk).
+    explicit Studio(const core::SculptConfig& cfg,
+                    const SketchParams& params = recommendedSketchParams());
+    /// Takes over a session (with or without a project); loads the project's `sketch.json`
+    /// (throws std::invalid_argument naming the file and field).
+    explicit Studio(std::unique_ptr<Session> session,
+                    const SketchParams& params = recommendedSketchParams());
+    /// Opens the project in `dir` (Session::openProject: created when the folder holds none,
+    /// locked while the studio lives, read-only with `mode`).
+    static std::unique_ptr<Studio> openProject(
+        const std::filesystem::path& dir, const core::SculptConfig& cfg,
+        ProjectMode mode = ProjectMode::ReadWrite,
+        const SketchParams& params = recommendedSketchParams());
+
+    const Session& session() const { return *mSession; }
+    studio::SketchDocument& document() { return mDocument; }
+    const studio::SketchDocument& document() const { return mDocument; }
+    studio::SketchPage& page() { return mDocument.current(); }
+
+    // Tool state (Session.h). Changing tool, size or zoom ends a stroke in progress.
+    void setTool(ToolKind tool);
+    void setSize(int level);
+    void setZoom(int zoom, const core::Vec3& center);
+    void setObjectPose(const core::RigidTransform& worldFromObject);
+
+    // Sculpting: one stroke is one step of the timeline, journaled when it ends.
+    void beginStroke();
+    void strokeSample(const core::Vec3& point, bool world);
+    void endStroke();
+    void stroke(const std::vector<core::Vec3>& points, bool world);
+    /// Session::addSolid as one step.
+    int addSolid(const core::Mesh& solid, int level = 0);
+
+    /// Runs one playback-script command: sketch commands here, the rest through the session
+    /// (undo/redo through the shared timeline). Returns true when the sculpture changed.
+    /// Errors as Session::apply, plus std::invalid_argument for a sketch command that does
+    /// not apply (unknown stroke id, missing role, bad solid).
+    bool apply(const ScriptCommand& command);
+
+    /// Runs `action` on the current page and records a sketch step when it added one to the
+    /// page's log. Returns what the action returned, when it returns something.
+    /// Pen input, editing and roles go through here; undo and redo must not (use the
+    /// studio's).
+    template <class F>
+    auto sketchStep(F&& action) {
+        const size_t before = page().undoCount();
+        if constexpr (std::is_void_v<decltype(action(page()))>) {
+            action(page());
+            if (page().undoCount() > before) noteSketchStep();
+        } else {
+            auto result = action(page());
+            if (page().undoCount() > before) noteSketchStep();
+            return result;
+        }
+    }
+
+    /// Builds a solid from the roles (the current page's first, then the other pages';
+    /// docs/sketch-mode.md) and adds it to the sculpture as one step. When the last solid
+    /// built is still the last sculpt step, building the same construction again (after
+    /// editing its lines), a cut or an extrusion replaces it: one new step, whose undo brings
+    /// the previous solid back. @param level 0: from its size. Returns the level used.
+    int buildSolid(sketch::SolidConstruction construction, int level = 0);
+    /// The last solid built (what cut and extrude change), if any.
+    const std::optional<sketch::SketchSolid>& lastSolid() const { return mLastBuilt; }
+
+    bool undo();
+    bool redo();
+    size_t stepCount() const { return mDone.size(); }
+    size_t redoCount() const { return mUndone.size(); }
+    /// Writes a snapshot of the sculpture and `sketch.json` (projects only).
+    void save();
+
+    SketchPlane plane(size_t pageIndex) const;
+    void setPlane(size_t pageIndex, SketchPlane plane);
+
+    /// Drawing on the model: polylines already on the sculpture's surface (object mm) become
+    /// surface lines, one step for all of them. Pieces with fewer than two points are
+    /// skipped. Returns the number of lines added (0: no step).
+    size_t addSurfaceLines(std::vector<std::vector<core::Vec3>> lines);
+    /// Installs what `model-line` script commands project their strokes with; without one
+    /// they are refused (std::invalid_argument).
+    void setSurfaceProjector(SurfaceProjector projector) { mProjector = std::move(projector); }
+    /// Surface lines drawn on the model (object mm), oldest first.
+    const std::vector<std::vector<core::Vec3>>& surfaceLines() const { return mSurfaceLines; }
+
+    /// The document's clean curves and role strokes in object space (mm), then the surface
+    /// lines, for exports (DXF polylines). Pages without a plane use the front plane.
+    std::vector<std::vector<core::Vec3>> curvesInObjectSpace() const;
+
+  private:
+    struct Step {
+        bool sketch = false;
+        size_t page = 0;
+        size_t surfaceLines = 0;  ///< > 0: a stroke drawn on the model, that many lines
+        bool sculpt() const { return !sketch && surfaceLines == 0; }
+        bool operator==(const Step&) const = default;
+    };
+    void noteSketchStep();
+    void push(const Step& step);
+    /// Runs a session call that may complete sculpt steps (ending a stroke, adding a solid)
+    /// and puts each completed step on the timeline at once.
+    template <class F>
+    auto sculpt(F&& call) {
+        try {
+            if constexpr (std::is_void_v<decltype(call(std::declval<Session&>()))>) {
+                call(*mSession);
+                noteSculptSteps();
+            } else {
+                auto result = call(*mSession);
+                noteSculptSteps();
+                return result;
+            }
+        } catch (...) {
+            // A stroke ended (journaled) before the call failed is still a step.
+            noteSculptSteps();
+            throw;
+        }
+    }
+    void noteSculptSteps();
+    void loadSketchFile();
+    void writeSketchFile() const;
+    void applySketch(const ScriptCommand& c);
+    core::Vec3 toObject(size_t page, const glm::dvec2& canvas) const;
+
+    std::unique_ptr<Session> mSession;
+    studio::SketchDocument mDocument;
+    std::vector<Step> mDone, mUndone;
+    size_t mSculptSteps = 0;  // sculpt steps in mDone == the session's done history
+    std::vector<SketchPlane> mPlanes;
+    double mClock = 0;  // script pen time when samples give none, s
+    // The last solid built from a page, for regeneration after editing its lines.
+    struct BuiltSolid {
+        sketch::SolidConstruction construction;
+        size_t timelineIndex = 0;
+    };
+    std::optional<BuiltSolid> mLastSolid;
+    std::optional<sketch::SketchSolid> mLastBuilt;
+    std::vector<std::vector<core::Vec3>> mSurfaceLines, mUndoneSurfaceLines;
+    std::optional<std::filesystem::path> mFile;
+    SurfaceProjector mProjector;
+};
+
+}  // namespace vsculpt::studio

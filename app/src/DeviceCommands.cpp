@@ -2,14 +2,14 @@
 #include "vsculpt/app/DeviceCommands.h"
 
 #include "vsculpt/app/DeviceInput.h"
-#include "vsculpt/studio/Interaction.h"
 #include "vsculpt/app/LiveDevices.h"
-#include "vsculpt/studio/Session.h"
 #include "vsculpt/core/Config.h"
 #include "vsculpt/core/Mesh.h"
 #include "vsculpt/devices/HidrawTransport.h"
 #include "vsculpt/devices/Recording.h"
 #include "vsculpt/devices/UsbTransport.h"
+#include "vsculpt/studio/Interaction.h"
+#include "vsculpt/studio/Session.h"
 
 #include <nlohmann/json.hpp>
 

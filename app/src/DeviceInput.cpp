@@ -107,7 +107,12 @@ struct DeviceInput::State {
 
     State(const core::DevicesConfig& c, std::vector<devices::DeviceRule> r, Interaction& i,
           studio::Studio& s)
-        : cfg(c), rules(std::move(r)), interaction(i), studio(s), session(s.session()), head(headCalibration(c)) {
+        : cfg(c),
+          rules(std::move(r)),
+          interaction(i),
+          studio(s),
+          session(s.session()),
+          head(headCalibration(c)) {
         worldFromTracker.rotation = eulerDegrees(c.worldFromTrackerRotationDeg);
         worldFromTracker.translation = c.worldFromTrackerTranslationMm;
     }

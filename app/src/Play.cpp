@@ -2,9 +2,9 @@
 #include "vsculpt/app/Play.h"
 
 #include "vsculpt/app/Rig.h"
-#include "vsculpt/core/WriteFileAtomically.h"
 #include "vsculpt/core/ExportDxf.h"
 #include "vsculpt/core/ExportMesh.h"
+#include "vsculpt/core/WriteFileAtomically.h"
 #include "vsculpt/devices/Recording.h"
 #include "vsculpt/render/Shot.h"
 
@@ -326,6 +326,10 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
             << stats["skeletons"].get<size_t>() << " skeletons, " << mesh.triangleCount()
             << " triangles, " << (stats["watertight"].get<bool>() ? "watertight" : "open")
             << ", mesh hash " << stats["mesh_hash"].get<std::string>() << "\n";
+    } catch (const SessionError& e) {
+        // Refused input (an export spacing the grid cannot hold): the user's to change.
+        err << "vsculpt play: error: " << e.what() << "\n";
+        return 2;
     } catch (const std::exception& e) {
         err << "vsculpt play: error: " << e.what() << "\n";
         return 1;

@@ -56,7 +56,8 @@ std::filesystem::path newProjectDir(const std::string& kind) {
     std::strftime(stamp, sizeof stamp, "%Y-%m-%d-%H%M%S", &local);
     const std::filesystem::path base = dataDir() / kind;
     for (int i = 0;; ++i) {
-        std::filesystem::path dir = base / (std::string(stamp) + (i ? "-" + std::to_string(i) : ""));
+        std::filesystem::path dir =
+            base / (std::string(stamp) + (i ? "-" + std::to_string(i) : ""));
         if (!std::filesystem::exists(dir)) return dir;
     }
 }
@@ -79,8 +80,8 @@ render::ProjectionCamera frontCamera(const Session& session, glm::ivec2 viewport
 }
 
 std::vector<std::vector<core::Vec3>> projectOnModel(const Session& session,
-                                                     const std::vector<glm::dvec2>& strokePx,
-                                                     const render::ProjectionCamera& camera) {
+                                                    const std::vector<glm::dvec2>& strokePx,
+                                                    const render::ProjectionCamera& camera) {
     const core::Mesh mesh = session.view().mesh();
     if (mesh.triangleCount() == 0 || strokePx.empty()) return {};
     render::StrokeProjectionOptions o;
@@ -170,7 +171,8 @@ std::string Rig::projectSummary() const {
     o << "project " << s.projectDir()->string();
     if (s.readOnly()) o << " (read-only)";
     if (s.recoveredEdits() > 0)
-        o << ": recovered " << s.recoveredEdits() << " edit(s) from the journal since the last save";
+        o << ": recovered " << s.recoveredEdits()
+          << " edit(s) from the journal since the last save";
     if (!s.recoveryWarning().empty()) o << "\n" << s.recoveryWarning();
     return o.str();
 }
@@ -192,8 +194,9 @@ std::string Rig::saveAs(const std::filesystem::path& dir) {
             if (std::filesystem::exists(*from / name))
                 std::filesystem::copy_file(*from / name, dir / name);
     } else {
-        throw core::ProjectError("this session has no project (started without one): "
-                                 "nothing to save as");
+        throw core::ProjectError(
+            "this session has no project (started without one): "
+            "nothing to save as");
     }
     const core::RigidTransform pose = mStudio->session().objectPose();
     mDevices.reset();
@@ -209,8 +212,8 @@ std::string Rig::saveAs(const std::filesystem::path& dir) {
 void Rig::rebuildInput() {
     mInteraction = std::make_unique<Interaction>(*mStudio, mOptions.alwaysEngaged);
     if (mLive)
-        mDevices = std::make_unique<DeviceInput>(mConfig.devices, mLive->rules(), *mInteraction,
-                                                 *mStudio);
+        mDevices =
+            std::make_unique<DeviceInput>(mConfig.devices, mLive->rules(), *mInteraction, *mStudio);
 }
 
 std::string Rig::newProject() {
@@ -227,8 +230,7 @@ std::string Rig::newProject() {
 }
 
 bool Rig::handles(const std::string& action) {
-    return action == "save" || action == "save_as" || action == "export" ||
-           action == "new_project";
+    return action == "save" || action == "save_as" || action == "export" || action == "new_project";
 }
 
 std::string Rig::projectAction(const std::string& action) {

@@ -4,11 +4,11 @@
 #include "KeyNames.h"
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/app/SketchInkList.h"
-#include "vsculpt/studio/SketchSolids.h"
-#include "vsculpt/studio/Studio.h"
 #include "vsculpt/render/ProjectStroke.h"
 #include "vsculpt/render/SketchCanvas.h"
 #include "vsculpt/render/Viewer.h"
+#include "vsculpt/studio/SketchSolids.h"
+#include "vsculpt/studio/Studio.h"
 
 #include <glm/gtc/quaternion.hpp>
 
@@ -73,7 +73,7 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
     // The same studio, project and devices as every session (Rig.h): by default the last
     // project or a new autosave project, every step saved as it is made.
     RigOptions ro;
-    ro.project = o.noProject           ? ProjectChoice::None
+    ro.project = o.noProject            ? ProjectChoice::None
                  : o.projectDir.empty() ? ProjectChoice::Autosave
                                         : ProjectChoice::Given;
     ro.projectDir = o.projectDir;

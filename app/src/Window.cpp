@@ -61,7 +61,7 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
     // default the window continues the last project, or starts a new autosave project, so
     // work sculpted here is journaled as it is made and survives a crash.
     RigOptions ro;
-    ro.project = o.noProject           ? ProjectChoice::None
+    ro.project = o.noProject            ? ProjectChoice::None
                  : o.projectDir.empty() ? ProjectChoice::Autosave
                                         : ProjectChoice::Given;
     ro.projectDir = o.projectDir;
@@ -109,10 +109,9 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
         Vec3 origin, dir;
         viewer->pixelRay(cursorX, cursorY, origin, dir);
         const glm::dmat4 objectFromWorld = glm::inverse(worldFromObject);
-        const ToolPick pick =
-            pickTool(sessionNow(), Vec3(objectFromWorld * glm::dvec4(origin, 1)),
-                     glm::normalize(Vec3(objectFromWorld * glm::dvec4(dir, 0))), 0, 0,
-                     Vec3(0, 0, -1));
+        const ToolPick pick = pickTool(sessionNow(), Vec3(objectFromWorld * glm::dvec4(origin, 1)),
+                                       glm::normalize(Vec3(objectFromWorld * glm::dvec4(dir, 0))),
+                                       0, 0, Vec3(0, 0, -1));
         return pick.surfaceHit ? *pick.surfaceHit : fallback;
     };
     std::vector<render::PaletteItem> palette;
@@ -251,8 +250,8 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
         }
         if (penWorld) {
             toolWorld = *penWorld;  // DeviceInput already moved the tool with every sample
-            pick = toolCues(session, Vec3(objectFromWorld * glm::dvec4(toolWorld, 1)),
-                            toolRadius, downObj);
+            pick = toolCues(session, Vec3(objectFromWorld * glm::dvec4(toolWorld, 1)), toolRadius,
+                            downObj);
         } else {
             toolWorld = Vec3(worldFromObject * glm::dvec4(pick.toolCentre, 1));
             try {

@@ -391,8 +391,8 @@ Mesh Session::wholeMesh(double spacing) const {
     // no integer holds, and it is refused before any conversion.
     double cells = 0;
     for (int a = 0; a < 3; ++a)
-        cells = std::max(cells, std::ceil(bounds.max[a] / spacing) -
-                                    std::floor(bounds.min[a] / spacing) + 2);
+        cells = std::max(
+            cells, std::ceil(bounds.max[a] / spacing) - std::floor(bounds.min[a] / spacing) + 2);
     if (!(cells <= 1024)) {
         char text[160];
         std::snprintf(text, sizeof text,

@@ -25,7 +25,23 @@ bool finite2(glm::dvec2 v) {
     throw std::invalid_argument(what);
 }
 
-constexpr double kMinScale = 1e-9, kMaxScale = 1e9;
+using L = SketchLimits;
+
+bool within(double v, double bound) {
+    return std::abs(v) <= bound;  // false for NaN
+}
+bool within2(glm::dvec2 v, double bound) {
+    return within(v.x, bound) && within(v.y, bound);
+}
+bool scaleInRange(double scale) {
+    return scale >= L::minViewScale && scale <= L::maxViewScale;  // false for NaN
+}
+bool factorInRange(double f) {
+    return f >= L::minEditFactor && f <= L::maxEditFactor;
+}
+void checkName(const std::string& name, const char* what) {
+    if (name.size() > L::maxNameBytes) invalid(std::string(what) + " is longer than 1024 bytes");
+}
 
 double distanceToSegment(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
     const glm::dvec2 ab = b - a;
@@ -80,18 +96,25 @@ void checkUniqueIds(const std::vector<int>& ids, const char* what) {
 
 void CanvasView::zoomAbout(glm::dvec2 viewPoint, double factor) {
     if (!finite2(viewPoint)) invalid("zoomAbout: non-finite view point");
+    if (!within2(viewPoint, L::maxViewMm)) invalid("zoomAbout: view point outside [-1e6, 1e6] mm");
     if (!(std::isfinite(factor) && factor > 0.0)) invalid("zoomAbout: factor must be > 0");
     const double newScale = scale / factor;
-    if (!(newScale >= kMinScale && newScale <= kMaxScale))
-        invalid("zoomAbout: zoom out of range [1e-9, 1e9]");
+    if (!scaleInRange(newScale)) invalid("zoomAbout: zoom out of range [1e-9, 1e9]");
     const glm::dvec2 fixed = canvasFromView(viewPoint);
+    const glm::dvec2 newOffset = fixed - newScale * viewPoint;
+    if (!within2(newOffset, L::maxViewOffsetMm))
+        invalid("zoomAbout: the view would leave [-1e9, 1e9] mm");
     scale = newScale;
-    offset = fixed - newScale * viewPoint;
+    offset = newOffset;
 }
 
 void CanvasView::pan(glm::dvec2 deltaView) {
     if (!finite2(deltaView)) invalid("pan: non-finite delta");
-    offset -= scale * deltaView;
+    if (!within2(deltaView, L::maxViewMm)) invalid("pan: delta outside [-1e6, 1e6] mm");
+    const glm::dvec2 newOffset = offset - scale * deltaView;
+    if (!within2(newOffset, L::maxViewOffsetMm))
+        invalid("pan: the view would leave [-1e9, 1e9] mm");
+    offset = newOffset;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -222,65 +245,78 @@ SketchPage::SketchPage(std::string name, std::string group, const SketchParams& 
       params_(params),
       session_(sessionParams(params.cleanup)) {
     if (name_.empty()) invalid("page name must not be empty");
+    checkName(name_, "page name");
+    checkName(group_, "page group");
     validateInkParams(params_.ink);
 }
 
 void SketchPage::setName(std::string name) {
     if (name.empty()) invalid("page name must not be empty");
+    checkName(name, "page name");
     name_ = std::move(name);
 }
 
 void SketchPage::setGroup(std::string group) {
+    checkName(group, "page group");
     group_ = std::move(group);
 }
 
 void SketchPage::setView(const CanvasView& view) {
-    if (!(std::isfinite(view.scale) && view.scale >= kMinScale && view.scale <= kMaxScale))
-        invalid("view.scale must be in [1e-9, 1e9]");
-    if (!finite2(view.offset)) invalid("view.offset must be finite");
+    if (!scaleInRange(view.scale)) invalid("view.scale must be in [1e-9, 1e9]");
+    if (!within2(view.offset, L::maxViewOffsetMm)) invalid("view.offset must be in [-1e9, 1e9]");
     view_ = view;
 }
 
 // --- pen ---
 
 namespace {
-void checkPenSample(const PenSample& s, const char* call) {
+// Returns the sample's canvas position.
+glm::dvec2 checkPenSample(const PenSample& s, const CanvasView& view, const char* call) {
     const std::string at = std::string(call) + ": ";
     if (!finite2(s.view)) invalid(at + "non-finite position");
+    if (!within2(s.view, L::maxViewMm)) invalid(at + "view position outside [-1e6, 1e6] mm");
     if (!std::isfinite(s.time)) invalid(at + "non-finite time");
+    if (!within(s.time, L::maxTime)) invalid(at + "time outside [-1e10, 1e10] s");
     if (s.pressure && !(*s.pressure >= 0.0 && *s.pressure <= 1.0))
         invalid(at + "pressure outside [0, 1]");
     if (s.tiltDeg && !(std::abs(s.tiltDeg->x) <= 90.0 && std::abs(s.tiltDeg->y) <= 90.0))
         invalid(at + "tilt outside [-90, 90] degrees");
+    // A sane view point can still land far off the canvas through a zoomed-out view.
+    const glm::dvec2 canvas = view.canvasFromView(s.view);
+    if (!within2(canvas, L::maxCanvasMm))
+        invalid(at + "canvas position outside [-1e6, 1e6] mm (the view maps the pen there)");
+    return canvas;
 }
 }  // namespace
 
 void SketchPage::penDown(const PenSample& sample) {
     if (drawing_) invalid("penDown: the pen is already down");
-    checkPenSample(sample, "penDown");
+    const glm::dvec2 canvas = checkPenSample(sample, view_, "penDown");
+    if (archive_.size() >= L::maxPageStrokes)
+        invalid("penDown: the page holds 100000 strokes, the most a page can; add a page");
     if (mode_ == SketchMode::Cleanup && pendingGroupPaused(sample.time))
         record(action(SketchAction::Type::EndGroup));
     Drawing d;
     d.stroke.inkScale = view_.scale;
     d.stroke.stroke.hasPressure = sample.pressure.has_value();
     d.tilt = sample.tiltDeg.has_value();
-    d.stroke.stroke.samples.push_back(
-        {view_.canvasFromView(sample.view), sample.time, sample.pressure.value_or(1.0)});
+    d.stroke.stroke.samples.push_back({canvas, sample.time, sample.pressure.value_or(1.0)});
     if (d.tilt) d.stroke.tiltDeg.push_back(*sample.tiltDeg);
     drawing_ = std::move(d);
 }
 
 void SketchPage::penMove(const PenSample& sample) {
     if (!drawing_) invalid("penMove: the pen is not down");
-    checkPenSample(sample, "penMove");
+    const glm::dvec2 canvas = checkPenSample(sample, view_, "penMove");
     Stroke& s = drawing_->stroke.stroke;
+    if (s.samples.size() >= L::maxStrokeSamples)
+        invalid("penMove: the stroke has 100000 samples, the most a stroke can hold");
     if (sample.time < s.samples.back().time) invalid("penMove: time goes backwards");
     if (sample.pressure.has_value() != s.hasPressure)
         invalid("penMove: pressure present in some samples of the stroke and not in others");
     if (sample.tiltDeg.has_value() != drawing_->tilt)
         invalid("penMove: tilt present in some samples of the stroke and not in others");
-    s.samples.push_back(
-        {view_.canvasFromView(sample.view), sample.time, sample.pressure.value_or(1.0)});
+    s.samples.push_back({canvas, sample.time, sample.pressure.value_or(1.0)});
     if (drawing_->tilt) drawing_->stroke.tiltDeg.push_back(*sample.tiltDeg);
 }
 
@@ -298,6 +334,7 @@ void SketchPage::cancelStroke() {
 
 void SketchPage::hover(glm::dvec2 view) {
     if (!finite2(view)) invalid("hover: non-finite position");
+    if (!within2(view, L::maxViewMm)) invalid("hover: position outside [-1e6, 1e6] mm");
     hover_ = view;
 }
 
@@ -309,6 +346,8 @@ std::optional<glm::dvec2> SketchPage::hoverCanvas() const {
 std::optional<int> SketchPage::addStrokeAction(ArchivedStroke stroke, bool allowPressureTrigger) {
     const bool cleanup = mode_ == SketchMode::Cleanup;
     if (cleanup && !twoDistinctPoints(stroke.stroke)) return std::nullopt;
+    if (archive_.size() >= L::maxPageStrokes)
+        invalid("the page holds 100000 strokes, the most a page can; add a page");
     const int id = int(archive_.size());
     stroke.id = id;
     const double peak = peakPressure(stroke.stroke);
@@ -347,6 +386,7 @@ bool SketchPage::pendingGroupPaused(double now) const {
 
 bool SketchPage::advanceTime(double now) {
     if (!std::isfinite(now)) invalid("advanceTime: non-finite time");
+    if (!within(now, L::maxTime)) invalid("advanceTime: time outside [-1e10, 1e10] s");
     if (drawing_ || !pendingGroupPaused(now)) return false;
     record(action(SketchAction::Type::EndGroup));
     return true;
@@ -356,6 +396,13 @@ bool SketchPage::endGroup() {
     if (session_.pendingStrokes().empty()) return false;
     record(action(SketchAction::Type::EndGroup));
     return true;
+}
+
+std::string SketchPage::cleanupNote(int strokeId) const {
+    const auto it = live_.find(strokeId);
+    if (it == live_.end() || !it->second.cleanup)
+        invalid("stroke " + std::to_string(strokeId) + " is not a live clean-up stroke");
+    return session_.strokeReport(it->second.sessionId).note;
 }
 
 std::vector<int> SketchPage::pendingStrokes() const {
@@ -368,6 +415,8 @@ std::vector<int> SketchPage::pendingStrokes() const {
 // --- actions ---
 
 void SketchPage::record(const SketchAction& action) {
+    if (done_.size() >= L::maxPageActions)
+        invalid("the page has 1000000 actions, the most a page can; add a page");
     apply(action);
     done_.push_back(action);
     redo_.clear();
@@ -412,24 +461,42 @@ void SketchPage::apply(const SketchAction& a) {
             checkUniqueIds(a.strokes, what);
             for (int id : a.strokes)
                 liveDraft(id);
-            if (a.type == T::Move && !finite2(a.vec)) invalid("move: non-finite delta");
+            if (a.type == T::Move && !within2(a.vec, 2.0 * L::maxCanvasMm))
+                invalid("move: delta not finite or outside [-2e6, 2e6] mm");
             if (a.type == T::Scale) {
-                if (!(std::isfinite(a.factor) && a.factor > 0.0))
-                    invalid("scale: factor must be finite and > 0");
-                if (!finite2(a.vec)) invalid("scale: non-finite pivot");
+                if (!factorInRange(a.factor)) invalid("scale: factor outside [1e-6, 1e6]");
+                if (!within2(a.vec, L::maxCanvasMm))
+                    invalid("scale: pivot not finite or outside [-1e6, 1e6] mm");
             }
-            for (int id : a.strokes) {
-                if (a.type == T::Delete) {
+            if (a.type == T::Delete) {
+                for (int id : a.strokes)
                     live_.erase(id);
-                    continue;
+                return;
+            }
+            // Placements are checked in full before any is changed (strong guarantee): every
+            // point must stay on the canvas, or later arithmetic on it could overflow.
+            std::vector<std::pair<double, glm::dvec2>> placed;
+            for (int id : a.strokes) {
+                const LiveStroke& s = live_.at(id);
+                double scale = s.scale;
+                glm::dvec2 offset = s.offset + a.vec;
+                if (a.type == T::Scale) {
+                    scale = s.scale * a.factor;
+                    offset = a.factor * (s.offset - a.vec) + a.vec;
+                    if (!factorInRange(scale))
+                        invalid("scale: stroke " + std::to_string(id) +
+                                " would be scaled outside [1e-6, 1e6] in all");
                 }
-                LiveStroke& s = live_[id];
-                if (a.type == T::Move) {
-                    s.offset += a.vec;
-                } else {
-                    s.scale *= a.factor;
-                    s.offset = a.factor * (s.offset - a.vec) + a.vec;
-                }
+                for (const StrokeSample& x : archive_[std::size_t(id)].stroke.samples)
+                    if (!within2(scale * x.position + offset, L::maxCanvasMm))
+                        invalid(std::string(what) + ": stroke " + std::to_string(id) +
+                                " would leave the canvas [-1e6, 1e6] mm");
+                placed.push_back({scale, offset});
+            }
+            for (std::size_t i = 0; i < a.strokes.size(); ++i) {
+                LiveStroke& s = live_.at(a.strokes[i]);
+                s.scale = placed[i].first;
+                s.offset = placed[i].second;
             }
             return;
         }
@@ -500,8 +567,12 @@ void SketchPage::select(const std::vector<int>& strokeIds) {
 
 std::vector<int> SketchPage::selectLasso(const Polyline2& polygon) {
     if (polygon.size() < 3) invalid("selectLasso: the lasso needs at least 3 points");
+    // Every lasso point is tested against every stroke sample.
+    if (polygon.size() > L::maxStrokeSamples)
+        invalid("selectLasso: the lasso has more than 100000 points");
     for (glm::dvec2 p : polygon)
-        if (!finite2(p)) invalid("selectLasso: non-finite lasso point");
+        if (!within2(p, L::maxCanvasMm))
+            invalid("selectLasso: lasso point not finite or outside [-1e6, 1e6] mm");
     std::vector<int> sel;
     for (const auto& [id, s] : live_) {
         if (s.cleanup) continue;
@@ -518,7 +589,8 @@ std::vector<int> SketchPage::selectLasso(const Polyline2& polygon) {
 }
 
 std::optional<int> SketchPage::selectNearest(glm::dvec2 point, double tolerance) {
-    if (!finite2(point)) invalid("selectNearest: non-finite point");
+    if (!within2(point, L::maxCanvasMm))
+        invalid("selectNearest: point not finite or outside [-1e6, 1e6] mm");
     if (!(std::isfinite(tolerance) && tolerance >= 0.0))
         invalid("selectNearest: tolerance must be finite and >= 0");
     std::optional<int> best;
@@ -770,17 +842,28 @@ SketchPage SketchPage::restore(std::string name, std::string group, const Sketch
                                const std::vector<SketchAction>& done,
                                std::vector<SketchAction> redo) {
     SketchPage page(std::move(name), std::move(group), params);
+    if (archive.size() > L::maxPageStrokes) invalid("strokes: more than 100000 strokes");
+    if (done.size() + redo.size() > L::maxPageActions)
+        invalid("done: more than 1000000 actions with the redo stack");
     for (std::size_t i = 0; i < archive.size(); ++i) {
-        if (archive[i].id != int(i))
-            invalid("strokes[" + std::to_string(i) + "].id: expected " + std::to_string(i));
+        const std::string at = "strokes[" + std::to_string(i) + "]";
+        if (archive[i].id != int(i)) invalid(at + ".id: expected " + std::to_string(i));
         const ArchivedStroke& a = archive[i];
+        if (a.stroke.samples.size() > L::maxStrokeSamples)
+            invalid(at + ".samples: more than 100000 samples");
         try {
             validateStroke(a.stroke);
         } catch (const std::invalid_argument& e) {
-            invalid("strokes[" + std::to_string(i) + "]: " + e.what());
+            invalid(at + ": " + e.what());
         }
         if (!a.tiltDeg.empty() && a.tiltDeg.size() != a.stroke.samples.size())
-            invalid("strokes[" + std::to_string(i) + "]: tilt count differs from sample count");
+            invalid(at + ": tilt count differs from sample count");
+        for (const glm::dvec2& t : a.tiltDeg)
+            if (!(std::abs(t.x) <= 90.0 && std::abs(t.y) <= 90.0))
+                invalid(at + ": tilt outside [-90, 90] degrees");
+        if (!scaleInRange(a.inkScale)) invalid(at + ".inkScale: outside [1e-9, 1e9]");
+        if (a.reusedFrom < -1 || a.reusedFrom >= a.id)
+            invalid(at + ".reusedFrom: must name an earlier stroke");
     }
     page.archive_ = std::move(archive);
     for (std::size_t i = 0; i < done.size(); ++i) {
@@ -827,6 +910,7 @@ void SketchDocument::selectPage(std::size_t index) {
 }
 
 std::size_t SketchDocument::addPage(std::string name, std::string group) {
+    if (pages_.size() >= L::maxPages) invalid("the document has 10000 pages, the most it can");
     pages_.emplace_back(std::move(name), std::move(group), params_);
     current_ = pages_.size() - 1;
     return current_;
@@ -932,8 +1016,18 @@ double number(const json& v, const std::string& path) {
     if (!std::isfinite(d)) fail(path, "not finite");
     return d;
 }
+// A number within [-bound, bound]; `range` is that interval as the message shows it.
+double number(const json& v, const std::string& path, double bound, const char* range) {
+    const double d = number(v, path);
+    if (!within(d, bound)) fail(path, std::string("outside ") + range);
+    return d;
+}
 int integer(const json& v, const std::string& path) {
     if (!v.is_number_integer()) fail(path, "expected an integer");
+    // Read as signed, 2^64 - 1 would come back as -1 and pass.
+    if (v.is_number_unsigned() &&
+        v.get<std::uint64_t>() > std::uint64_t(std::numeric_limits<int>::max()))
+        fail(path, "integer out of range");
     const auto i = v.get<std::int64_t>();
     if (i < std::numeric_limits<int>::min() || i > std::numeric_limits<int>::max())
         fail(path, "integer out of range");
@@ -951,14 +1045,30 @@ const json& array(const json& v, const std::string& path) {
     if (!v.is_array()) fail(path, "expected an array");
     return v;
 }
-glm::dvec2 vec2(const json& v, const std::string& path) {
-    if (!v.is_array() || v.size() != 2) fail(path, "expected [x, y]");
-    return {number(v[0], at(path, 0)), number(v[1], at(path, 1))};
+// An array of at most maxSize elements, checked before any element is read.
+const json& array(const json& v, const std::string& path, std::size_t maxSize) {
+    if (array(v, path).size() > maxSize)
+        fail(path, "more than " + std::to_string(maxSize) + " elements");
+    return v;
 }
-std::vector<int> ids(const json& v, const std::string& path) {
+std::string name(const json& v, const std::string& path) {
+    std::string s = text(v, path);
+    if (s.size() > L::maxNameBytes) fail(path, "longer than 1024 bytes");
+    return s;
+}
+glm::dvec2 vec2(const json& v, const std::string& path, double bound, const char* range) {
+    if (!v.is_array() || v.size() != 2) fail(path, "expected [x, y]");
+    return {number(v[0], at(path, 0), bound, range), number(v[1], at(path, 1), bound, range)};
+}
+// Stroke ids listed by an action: at most one per stroke in the page, each naming one.
+std::vector<int> ids(const json& v, const std::string& path, std::size_t strokeCount) {
     std::vector<int> out;
-    for (std::size_t i = 0; i < array(v, path).size(); ++i)
-        out.push_back(integer(v[i], at(path, i)));
+    for (std::size_t i = 0; i < array(v, path, strokeCount).size(); ++i) {
+        const int id = integer(v[i], at(path, i));
+        if (id < 0 || std::size_t(id) >= strokeCount)
+            fail(at(path, i), "no stroke " + std::to_string(id) + " in the page");
+        out.push_back(id);
+    }
     return out;
 }
 StrokeKind kindFrom(const json& v, const std::string& path) {
@@ -974,7 +1084,7 @@ Role roleFrom(const json& v, const std::string& path) {
     fail(path, "unknown role \"" + s + "\"");
 }
 
-SketchAction actionFrom(const json& j, const std::string& path) {
+SketchAction actionFrom(const json& j, const std::string& path, std::size_t strokeCount) {
     using T = SketchAction::Type;
     SketchAction a;
     const std::string type = text(member(j, path, "type"), at(path, "type"));
@@ -987,12 +1097,15 @@ SketchAction actionFrom(const json& j, const std::string& path) {
         a.type = T::EndGroup;
     } else if (type == "move" || type == "scale" || type == "delete") {
         a.type = type == "move" ? T::Move : type == "scale" ? T::Scale : T::Delete;
-        a.strokes = ids(member(j, path, "strokes"), at(path, "strokes"));
-        if (a.type == T::Move) a.vec = vec2(member(j, path, "delta"), at(path, "delta"));
+        a.strokes = ids(member(j, path, "strokes"), at(path, "strokes"), strokeCount);
+        if (a.type == T::Move)
+            a.vec = vec2(member(j, path, "delta"), at(path, "delta"), 2.0 * L::maxCanvasMm,
+                         "[-2e6, 2e6] mm");
         if (a.type == T::Scale) {
             a.factor = number(member(j, path, "factor"), at(path, "factor"));
-            if (!(a.factor > 0.0)) fail(at(path, "factor"), "must be > 0");
-            a.vec = vec2(member(j, path, "pivot"), at(path, "pivot"));
+            if (!factorInRange(a.factor)) fail(at(path, "factor"), "outside [1e-6, 1e6]");
+            a.vec =
+                vec2(member(j, path, "pivot"), at(path, "pivot"), L::maxCanvasMm, "[-1e6, 1e6] mm");
         }
     } else if (type == "role") {
         a.type = T::SetRole;
@@ -1013,7 +1126,7 @@ ArchivedStroke strokeFrom(const json& j, const std::string& path, std::size_t in
     a.id = integer(member(j, path, "id"), at(path, "id"));
     if (a.id != int(index)) fail(at(path, "id"), "expected " + std::to_string(index));
     a.inkScale = number(member(j, path, "inkScale"), at(path, "inkScale"));
-    if (!(a.inkScale > 0.0)) fail(at(path, "inkScale"), "must be > 0");
+    if (!scaleInRange(a.inkScale)) fail(at(path, "inkScale"), "outside [1e-9, 1e9]");
     if (has(j, "reusedFrom")) {
         a.reusedFrom = integer(j["reusedFrom"], at(path, "reusedFrom"));
         if (a.reusedFrom < 0 || a.reusedFrom >= a.id)
@@ -1022,14 +1135,17 @@ ArchivedStroke strokeFrom(const json& j, const std::string& path, std::size_t in
     a.stroke.hasPressure = boolean(member(j, path, "hasPressure"), at(path, "hasPressure"));
     const bool tilt = boolean(member(j, path, "hasTilt"), at(path, "hasTilt"));
     const std::string sp = at(path, "samples");
-    const json& samples = array(member(j, path, "samples"), sp);
+    const json& samples = array(member(j, path, "samples"), sp, L::maxStrokeSamples);
     if (samples.empty()) fail(sp, "a stroke needs at least one sample");
+    a.stroke.samples.reserve(samples.size());
+    if (tilt) a.tiltDeg.reserve(samples.size());
     for (std::size_t i = 0; i < samples.size(); ++i) {
         const std::string p = at(sp, i);
         const json& s = samples[i];
         StrokeSample x;
-        x.position = {number(member(s, p, "x"), at(p, "x")), number(member(s, p, "y"), at(p, "y"))};
-        x.time = number(member(s, p, "t"), at(p, "t"));
+        x.position = {number(member(s, p, "x"), at(p, "x"), L::maxCanvasMm, "[-1e6, 1e6] mm"),
+                      number(member(s, p, "y"), at(p, "y"), L::maxCanvasMm, "[-1e6, 1e6] mm")};
+        x.time = number(member(s, p, "t"), at(p, "t"), L::maxTime, "[-1e10, 1e10] s");
         if (i > 0 && x.time < a.stroke.samples.back().time) fail(at(p, "t"), "time goes backwards");
         if (a.stroke.hasPressure) {
             x.pressure = number(member(s, p, "pressure"), at(p, "pressure"));
@@ -1096,14 +1212,16 @@ std::string SketchDocument::toJson() const {
                       {"version", kVersion},
                       {"current", current_},
                       {"pages", std::move(pages)}};
-    return doc.dump();
+    // Names set through the API may hold invalid UTF-8, which strict dumping would throw on.
+    return doc.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
 SketchDocument SketchDocument::fromJson(const std::string& textIn, const SketchParams& params) {
     json j;
     try {
         j = json::parse(textIn);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {
+        // Not only parse_error: a number like 1e400 overflows with out_of_range.
         throw std::invalid_argument(std::string("not JSON: ") + e.what());
     }
     if (!j.is_object()) fail("(root)", "expected an object");
@@ -1113,7 +1231,7 @@ SketchDocument SketchDocument::fromJson(const std::string& textIn, const SketchP
     if (version != kVersion)
         fail("version", "unsupported version " + std::to_string(version) + " (this build reads " +
                             std::to_string(kVersion) + ")");
-    const json& pagesJ = array(member(j, "", "pages"), "pages");
+    const json& pagesJ = array(member(j, "", "pages"), "pages", L::maxPages);
     if (pagesJ.empty()) fail("pages", "a document needs at least one page");
     const int current = integer(member(j, "", "current"), "current");
     if (current < 0 || std::size_t(current) >= pagesJ.size())
@@ -1121,12 +1239,13 @@ SketchDocument SketchDocument::fromJson(const std::string& textIn, const SketchP
 
     SketchDocument doc(params);
     doc.pages_.clear();
+    std::size_t totalSamples = 0;
     for (std::size_t pi = 0; pi < pagesJ.size(); ++pi) {
         const std::string pp = at("pages", pi);
         const json& pj = pagesJ[pi];
-        const std::string name = text(member(pj, pp, "name"), at(pp, "name"));
+        const std::string name = studio::name(member(pj, pp, "name"), at(pp, "name"));
         if (name.empty()) fail(at(pp, "name"), "must not be empty");
-        const std::string group = text(member(pj, pp, "group"), at(pp, "group"));
+        const std::string group = studio::name(member(pj, pp, "group"), at(pp, "group"));
         const std::string mode = text(member(pj, pp, "mode"), at(pp, "mode"));
         if (mode != "draft" && mode != "cleanup")
             fail(at(pp, "mode"), "expected \"draft\" or \"cleanup\"");
@@ -1135,23 +1254,28 @@ SketchDocument SketchDocument::fromJson(const std::string& textIn, const SketchP
         const json& vj = member(pj, pp, "view");
         CanvasView view;
         view.scale = number(member(vj, vp, "scale"), at(vp, "scale"));
-        if (!(view.scale >= kMinScale && view.scale <= kMaxScale))
-            fail(at(vp, "scale"), "outside [1e-9, 1e9]");
-        view.offset = vec2(member(vj, vp, "offset"), at(vp, "offset"));
+        if (!scaleInRange(view.scale)) fail(at(vp, "scale"), "outside [1e-9, 1e9]");
+        view.offset =
+            vec2(member(vj, vp, "offset"), at(vp, "offset"), L::maxViewOffsetMm, "[-1e9, 1e9] mm");
 
         std::vector<ArchivedStroke> archive;
         const std::string sp = at(pp, "strokes");
-        const json& sj = array(member(pj, pp, "strokes"), sp);
-        for (std::size_t i = 0; i < sj.size(); ++i)
+        const json& sj = array(member(pj, pp, "strokes"), sp, L::maxPageStrokes);
+        archive.reserve(sj.size());
+        for (std::size_t i = 0; i < sj.size(); ++i) {
             archive.push_back(strokeFrom(sj[i], at(sp, i), i));
+            totalSamples += archive.back().stroke.samples.size();
+            if (totalSamples > L::maxDocumentSamples)
+                fail(at(at(sp, i), "samples"), "the document has more than 10000000 samples");
+        }
         std::vector<SketchAction> done, redo;
         const std::string dp = at(pp, "done"), rp = at(pp, "redo");
-        const json& dj = array(member(pj, pp, "done"), dp);
+        const json& dj = array(member(pj, pp, "done"), dp, L::maxPageActions);
+        const json& rj = array(member(pj, pp, "redo"), rp, L::maxPageActions - dj.size());
         for (std::size_t i = 0; i < dj.size(); ++i)
-            done.push_back(actionFrom(dj[i], at(dp, i)));
-        const json& rj = array(member(pj, pp, "redo"), rp);
+            done.push_back(actionFrom(dj[i], at(dp, i), archive.size()));
         for (std::size_t i = 0; i < rj.size(); ++i)
-            redo.push_back(actionFrom(rj[i], at(rp, i)));
+            redo.push_back(actionFrom(rj[i], at(rp, i), archive.size()));
 
         try {
             SketchPage page =

@@ -370,8 +370,8 @@ int Studio::buildSolid(sketch::SolidConstruction construction, int level) {
             if (mDone[i].sculpt()) replace = false;
     }
     const size_t before = mSession->history().done().size();
-    const int used = sculpt(
-        [&](Session& s) { return s.addSolid(toMesh(built.triangles), level, replace); });
+    const int used =
+        sculpt([&](Session& s) { return s.addSolid(toMesh(built.triangles), level, replace); });
     if (mSession->history().done().size() > before) {
         const C kept = (construction == C::Cut || construction == C::Extrude) && mLastSolid
                            ? mLastSolid->construction

@@ -18,6 +18,7 @@
 
 using namespace vsculpt;
 using namespace vsculpt::app;
+using namespace vsculpt::studio;
 using devices::DeviceEvent;
 using devices::DeviceEventKind;
 using test::Bytes;
@@ -44,9 +45,10 @@ constexpr int64_t kMs = 1'000'000;
 
 TEST(DeviceInput, MouseButtonsFollowTheThesis) {
     const core::SculptConfig cfg = config();
-    Session s(cfg);
-    Interaction ui(s);
-    DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, s);
+    Studio studio(cfg);
+    const Session& s = studio.session();
+    Interaction ui(studio);
+    DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, studio);
     input.handle(arrived(0, "mouse", 0x256f, 0xc635));
     EXPECT_EQ(s.tool(), ToolKind::Add);
     EXPECT_EQ(s.size(), 7);
@@ -65,9 +67,10 @@ TEST(DeviceInput, MouseButtonsFollowTheThesis) {
 
 TEST(DeviceInput, MouseAxesTurnTheObjectAtTheConfiguredRate) {
     const core::SculptConfig cfg = config();
-    Session s(cfg);
-    Interaction ui(s);
-    DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, s);
+    Studio studio(cfg);
+    const Session& s = studio.session();
+    Interaction ui(studio);
+    DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, studio);
     input.handle(arrived(0, "mouse", 0x256f, 0xc635));
     // Full deflection of one rotation axis, held for 0.5 s (reports every 10 ms).
     for (int i = 0; i <= 50; ++i)
@@ -96,9 +99,10 @@ std::vector<DeviceEvent> penStroke(int64_t t0, int frames, double zCm) {
 
 TEST(DeviceInput, TrackerPenSculptsAndStartsTheTracker) {
     const core::SculptConfig cfg = config();
-    Session s(cfg);
-    Interaction ui(s, /*alwaysEngaged=*/true);
-    DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, s);
+    Studio studio(cfg);
+    const Session& s = studio.session();
+    Interaction ui(studio, /*alwaysEngaged=*/true);
+    DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, studio);
     const uint64_t before = core::canonicalMeshHash(s.wholeMesh());
     input.handle(arrived(0, "tracker", 0x0f44, 0xff20));
     const auto out = input.takeOutput();
@@ -116,7 +120,7 @@ TEST(DeviceInput, TrackerPenSculptsAndStartsTheTracker) {
     EXPECT_FALSE(s.inStroke());
     const uint64_t after = core::canonicalMeshHash(s.wholeMesh());
     EXPECT_NE(after, before);
-    EXPECT_TRUE(s.undo());
+    EXPECT_TRUE(studio.undo());
     EXPECT_EQ(core::canonicalMeshHash(s.wholeMesh()), before);
     EXPECT_EQ(input.counters().at("tracker").samples, 30u);
     EXPECT_EQ(input.counters().at("tracker").departures, 1u);
@@ -125,9 +129,10 @@ TEST(DeviceInput, TrackerPenSculptsAndStartsTheTracker) {
 TEST(DeviceInput, HandHeldObjectStationMovesTheSculpture) {
     core::SculptConfig cfg = config();
     cfg.devices.objectStation = 3;
-    Session s(cfg);
-    Interaction ui(s);
-    DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, s);
+    Studio studio(cfg);
+    const Session& s = studio.session();
+    Interaction ui(studio);
+    DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, studio);
     input.handle(arrived(0, "tracker", 0x0f44, 0xff20));
     // First sample: grabbed where it is, no jump.
     input.handle(test::report(kMs, "tracker", test::libertyRecord(3, 10, 20, 30, 0)));
@@ -148,9 +153,10 @@ TEST(DeviceInput, HandHeldObjectStationMovesTheSculpture) {
 
 TEST(DeviceInput, GarbageAndSplitRecordsAreHandled) {
     const core::SculptConfig cfg = config();
-    Session s(cfg);
-    Interaction ui(s, true);
-    DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, s);
+    Studio studio(cfg);
+    const Session& s = studio.session();
+    Interaction ui(studio, true);
+    DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, studio);
     input.handle(arrived(0, "tracker", 0x0f44, 0xff20));
     // Records cut at arbitrary places and garbage in between: the framer resyncs.
     Bytes stream;
@@ -185,12 +191,13 @@ TEST(DeviceInput, SameEventsGiveTheSameSculpture) {
     for (const auto& e : penStroke(300 * kMs, 20, 2.9))
         events.push_back(e);
     auto run = [&] {
-        Session s(cfg);
-        Interaction ui(s, true);
-        DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, s);
+        Studio studio(cfg);
+        const Session& s = studio.session();
+        Interaction ui(studio, true);
+        DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, studio);
         for (const auto& e : events)
             input.handle(e);
-        s.endStroke();
+        studio.endStroke();
         return core::canonicalMeshHash(s.wholeMesh());
     };
     const uint64_t first = run();
@@ -209,9 +216,10 @@ TEST(DeviceInput, RandomEventsNeverBreakTheSession) {
     core::SculptConfig cfg = config();
     cfg.devices.match.push_back({"headset", "rift", "hidraw", 0x2833, {0x0021}, 0, 0, 0});
     cfg.devices.match.push_back({"tablet", "hid-digitizer", "hidraw", 0x056a, {0x0374}, 0, 0, 0});
-    Session s(cfg);
-    Interaction ui(s);
-    DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, s);
+    Studio studio(cfg);
+    const Session& s = studio.session();
+    Interaction ui(studio);
+    DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, studio);
     std::mt19937 rng(5);
     const char* names[] = {"mouse", "tracker", "headset", "tablet", "other"};
     int64_t t = 0;
@@ -243,7 +251,7 @@ TEST(DeviceInput, RandomEventsNeverBreakTheSession) {
         ASSERT_NO_THROW(input.handle(e)) << "event " << i;
         input.takeOutput();
     }
-    s.endStroke();
+    studio.endStroke();
     EXPECT_EQ(s.verifyMesh(), "");
 }
 
@@ -256,9 +264,10 @@ namespace {
 TEST(DeviceInput, TabletPenSamplesAreQueuedForTheSketchCanvas) {
     core::SculptConfig cfg = config();
     cfg.devices.match.push_back({"tablet", "wacom", "hidraw", 0x056a, {0x0010}, 0, 0, 0});
-    Session s(cfg);
-    Interaction ui(s);
-    DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, s);
+    Studio studio(cfg);
+    const Session& s = studio.session();
+    Interaction ui(studio);
+    DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, studio);
     const uint64_t before = core::canonicalMeshHash(s.view().mesh());
     input.handle(arrived(0, "tablet", 0x056a, 0x0010));
     const std::vector<DeviceOutput> out = input.takeOutput();
@@ -307,9 +316,10 @@ std::vector<uint8_t> hexFile(const std::string& name) {
 TEST(DeviceInput, GenericHidTabletIsDecodedFromItsArrivingDescriptor) {
     core::SculptConfig cfg = config();
     cfg.devices.match.push_back({"xppen", "hid-digitizer", "hidraw", 0x28bd, {0x0905}, 0, 0, 0});
-    Session s(cfg);
-    Interaction ui(s);
-    DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, s);
+    Studio studio(cfg);
+    const Session& s = studio.session();
+    Interaction ui(studio);
+    DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, studio);
     // Without a descriptor nothing can be decoded.
     input.handle(arrived(0, "xppen", 0x28bd, 0x0905));
     const Bytes touch{7, 0x23, 0x00, 0x40, 0xFF, 0x7F, 0x00, 0x20, 0xE2, 0x2D};

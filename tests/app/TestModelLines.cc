@@ -13,7 +13,9 @@
 using namespace vsculpt;
 using namespace vsculpt::studio;
 using core::Vec3;
-using test::smallConfig;
+core::SculptConfig smallConfig() {
+    return test::smallConfig(20);
+}
 using test::TempDir;
 
 namespace {
@@ -38,35 +40,36 @@ TEST(Studio, DrawingOnTheModelGivesSurfaceLinesThatUndo) {
     TempDir dir;
     std::vector<Vec3> line;
     {
-    auto rigStudio = std::make_unique<app::Rig>(smallConfig(), projectOptions(dir.path), std::cerr);
-    Studio& studio = rigStudio->studio();
-    const Session* session = &studio.session();
-    // Across the initial sphere (radius 20) in a 400 x 300 front view, and one stroke that
-    // misses it entirely.
-    runScript(studio,
-        "model-line 400 300 20,150 120,150 200,151 280,150 380,150\n"
-        "model-line 400 300 5,5 40,10\n");
-    ASSERT_EQ(studio.surfaceLines().size(), 1u);
-    EXPECT_EQ(studio.stepCount(), 1u);
-    const double h = session->view().region().spacingMm;
-    line = studio.surfaceLines()[0];
-    ASSERT_GT(line.size(), 10u);
-    for (size_t i = 0; i < line.size(); ++i) {
-        // On the polygonized sphere (within its grid's chord error), on the camera's side.
-        EXPECT_NEAR(glm::length(line[i]), 20, 0.5 * h) << i;
-        EXPECT_LT(line[i].y, 0) << i;
-        if (i > 0) EXPECT_LE(glm::distance(line[i], line[i - 1]), h / 3 + 1e-9);
-    }
-    // Across the whole silhouette: from one side of the sphere to the other.
-    EXPECT_LT(line.front().x, -18);
-    EXPECT_GT(line.back().x, 18);
-    // The lines go to exports with the sketch's curves, and undo/redo take them away and back.
-    EXPECT_EQ(studio.curvesInObjectSpace().size(), 1u);
-    studio.undo();
-    EXPECT_TRUE(studio.surfaceLines().empty());
-    studio.redo();
-    ASSERT_EQ(studio.surfaceLines().size(), 1u);
-    EXPECT_EQ(studio.surfaceLines()[0], line);
+        auto rigStudio =
+            std::make_unique<app::Rig>(smallConfig(), projectOptions(dir.path), std::cerr);
+        Studio& studio = rigStudio->studio();
+        const Session* session = &studio.session();
+        // Across the initial sphere (radius 20) in a 400 x 300 front view, and one stroke that
+        // misses it entirely.
+        runScript(studio,
+                  "model-line 400 300 20,150 120,150 200,151 280,150 380,150\n"
+                  "model-line 400 300 5,5 40,10\n");
+        ASSERT_EQ(studio.surfaceLines().size(), 1u);
+        EXPECT_EQ(studio.stepCount(), 1u);
+        const double h = session->view().region().spacingMm;
+        line = studio.surfaceLines()[0];
+        ASSERT_GT(line.size(), 10u);
+        for (size_t i = 0; i < line.size(); ++i) {
+            // On the polygonized sphere (within its grid's chord error), on the camera's side.
+            EXPECT_NEAR(glm::length(line[i]), 20, 0.5 * h) << i;
+            EXPECT_LT(line[i].y, 0) << i;
+            if (i > 0) EXPECT_LE(glm::distance(line[i], line[i - 1]), h / 3 + 1e-9);
+        }
+        // Across the whole silhouette: from one side of the sphere to the other.
+        EXPECT_LT(line.front().x, -18);
+        EXPECT_GT(line.back().x, 18);
+        // The lines go to exports with the sketch's curves, and undo/redo take them away and back.
+        EXPECT_EQ(studio.curvesInObjectSpace().size(), 1u);
+        studio.undo();
+        EXPECT_TRUE(studio.surfaceLines().empty());
+        studio.redo();
+        ASSERT_EQ(studio.surfaceLines().size(), 1u);
+        EXPECT_EQ(studio.surfaceLines()[0], line);
     }  // closed: the project is unlocked
     // Kept in the project.
     auto reopenedPtr = Studio::openProject(dir.path, smallConfig());

@@ -56,6 +56,7 @@ TEST(SketchWindow, ScreenshotShowsTheCanvasAndTheSolid) {
     }
     render::Image img;
     app::SketchWindowOptions o;
+    o.noProject = true;  // a fresh scratch session: the tests count its steps
     o.playScript = script.string();
     o.width = 1280;
     o.height = 480;
@@ -98,6 +99,7 @@ TEST(SketchWindow, HeadsetWindowShowsTheSolidInStereo) {
                           << circlePen(60, 0, 18) << "role outline last\nsolid inflate\n";
     render::Image desk, hmd;
     app::SketchWindowOptions o;
+    o.noProject = true;  // a fresh scratch session: the tests count its steps
     o.playScript = script.string();
     o.frames = 6;
     o.hidden = true;
@@ -139,6 +141,7 @@ TEST(SketchWindow, SketchKeysAreConfiguredAndCheckedForClashes) {
                                       ("vsculpt-keys-" + std::to_string(::getpid()) + ".json");
     std::ofstream(cfg) << R"({"interaction": {"sketch_bindings": {"lasso": "I"}}})";
     app::SketchWindowOptions o;
+    o.noProject = true;  // a fresh scratch session: the tests count its steps
     o.configPath = cfg.string();
     o.frames = 2;
     o.hidden = true;
@@ -163,6 +166,7 @@ TEST(SketchWindow, SketchKeysAreConfiguredAndCheckedForClashes) {
 TEST(SketchWindow, MouseDrawingAndKeysMakeASolid) {
     using E = render::InputEvent;
     app::SketchWindowOptions o;
+    o.noProject = true;  // a fresh scratch session: the tests count its steps
     o.width = 1280;
     o.height = 720;
     o.hidden = true;
@@ -216,6 +220,7 @@ TEST(SketchWindow, BadScriptIsRefusedWithTheLine) {
         ("vsculpt-badsketch-" + std::to_string(::getpid()) + ".vsc");
     std::ofstream(script) << "page body\nsolid inflate\n";
     app::SketchWindowOptions o;
+    o.noProject = true;  // a fresh scratch session: the tests count its steps
     o.playScript = script.string();
     o.frames = 5;
     o.hidden = true;

@@ -70,8 +70,7 @@ TEST(Session, ARefusedSampleCancelsTheWholeStroke) {
     const uint64_t before = viewHash(s);
     s.setSize(5);
     // A refusal is the user's input (SessionError), never an invariant failure (logic_error).
-    EXPECT_THROW(s.stroke({Vec3(0, 0, 30), Vec3(5, 0, 30), Vec3(1e7, 0, 0)}, false),
-                 SessionError);
+    EXPECT_THROW(s.stroke({Vec3(0, 0, 30), Vec3(5, 0, 30), Vec3(1e7, 0, 0)}, false), SessionError);
     EXPECT_EQ(viewHash(s), before);
     EXPECT_EQ(s.sculpture().store().vertexCount(), 0u);
     EXPECT_FALSE(s.history().canUndo());
@@ -163,7 +162,7 @@ TEST(Session, DamagedSnapshotIsRecoveredFromItsBackup) {
         sculptSome(*s, 2, 7);
         s->save();  // the first snapshot with edits; the empty one becomes its backup
         sculptSome(*s, 2, 8);
-        s->save();  // the previous snapshot and its journal become the backup
+        s->save();             // the previous snapshot and its journal become the backup
         sculptSome(*s, 1, 9);  // journaled only
         expected = viewHash(*s);
     }

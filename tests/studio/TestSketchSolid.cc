@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 // A sketched solid added to a sculpting session (issue #7 item 7): one undo step, the same
 // polygonizer (incremental == full), watertight result, journaled and recovered exactly.
-#include "vsculpt/studio/Session.h"
 #include "vsculpt/core/PlaceStroke.h"
+#include "vsculpt/studio/Session.h"
 
-#include "../TestSolids.h"
 #include "../TestFixtures.h"
+#include "../TestSolids.h"
 
 #include <gtest/gtest.h>
 

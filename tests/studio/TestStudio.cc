@@ -290,3 +290,54 @@ TEST(Studio, ModelLinesNeedAProjectorAndAreRefusedWithoutOne) {
 }
 
 }  // namespace
+
+namespace {
+
+// A journal ending "stroke, undo" (no save) keeps its redo after reopening, with and without
+// sketch steps on the same timeline.
+TEST(Studio, RedoSurvivesRecovery) {
+    for (const bool withSketch : {false, true}) {
+        TempDir dir;
+        uint64_t afterStroke = 0, afterUndo = 0;
+        {
+            auto studio = Studio::openProject(dir.path, smallConfig());
+            if (withSketch) run(*studio, "page Body Figures\n" + linePen(40, -30, 80, -30));
+            run(*studio, "tool add\nsize 5\nstroke 0 0 22 5 0 24\n");
+            afterStroke = core::canonicalMeshHash(studio->session().view().mesh());
+            ASSERT_TRUE(studio->undo());
+            afterUndo = core::canonicalMeshHash(studio->session().view().mesh());
+            ASSERT_NE(afterUndo, afterStroke);
+        }  // closed without saving: the journal carries the stroke and its undo
+        auto studio = Studio::openProject(dir.path, smallConfig());
+        EXPECT_EQ(core::canonicalMeshHash(studio->session().view().mesh()), afterUndo);
+        EXPECT_EQ(studio->redoCount(), 1u) << "with sketch: " << withSketch;
+        EXPECT_TRUE(studio->redo()) << "with sketch: " << withSketch;
+        EXPECT_EQ(core::canonicalMeshHash(studio->session().view().mesh()), afterStroke);
+        EXPECT_EQ(studio->stepCount(), withSketch ? 2u : 1u);
+        // And undo takes it back again through the same single timeline.
+        EXPECT_TRUE(studio->undo());
+        EXPECT_EQ(core::canonicalMeshHash(studio->session().view().mesh()), afterUndo);
+    }
+}
+
+// A stroke the journal cannot take is rolled back: the sculpture never shows an edit a
+// reopened project would not have.
+TEST(Studio, ReadOnlyProjectsRefuseEditsAndKeepTheSculptureAsItWas) {
+    TempDir dir;
+    {
+        auto s = Studio::openProject(dir.path, smallConfig());
+        s->stroke({Vec3(0, 0, 22), Vec3(4, 0, 22)}, false);
+    }
+    auto ro = Studio::openProject(dir.path, smallConfig(), ProjectMode::ReadOnly);
+    const uint64_t before = core::canonicalMeshHash(ro->session().view().mesh());
+    EXPECT_THROW(ro->stroke({Vec3(0, 0, -22), Vec3(4, 0, -22)}, false), SessionError);
+    EXPECT_EQ(core::canonicalMeshHash(ro->session().view().mesh()), before);
+    EXPECT_EQ(ro->session().history().done().size(), 1u);
+    EXPECT_EQ(ro->stepCount(), 1u);
+    EXPECT_THROW(ro->undo(), SessionError);
+    EXPECT_EQ(ro->stepCount(), 1u);
+    EXPECT_THROW(ro->save(), SessionError);
+    EXPECT_EQ(ro->session().verifyMesh(), "");
+}
+
+}  // namespace

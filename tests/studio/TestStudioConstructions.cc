@@ -2,8 +2,8 @@
 // Scripted sketch sessions for each construction (issue #8): three sections, cut, extrude
 // and regeneration, with pen samples as a designer draws them; the solids are checked in the
 // sculpture (watertight, one component, symmetric, silhouettes against the drawn sections).
-#include "vsculpt/studio/Studio.h"
 #include "vsculpt/core/EvalField.h"
+#include "vsculpt/studio/Studio.h"
 
 #include "../TestFixtures.h"
 

@@ -51,8 +51,8 @@ render::ProjectionCamera frontCamera(const studio::Session& session, glm::ivec2 
 /// A stroke drawn over `camera`'s view projected onto the mesh on show with the ray tracer:
 /// the pieces on the surface (object mm), points a third of the view's grid spacing apart.
 std::vector<std::vector<core::Vec3>> projectOnModel(const studio::Session& session,
-                                                     const std::vector<glm::dvec2>& strokePx,
-                                                     const render::ProjectionCamera& camera);
+                                                    const std::vector<glm::dvec2>& strokePx,
+                                                    const render::ProjectionCamera& camera);
 
 class Rig {
   public:

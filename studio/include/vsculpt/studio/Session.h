@@ -6,7 +6,6 @@
 /// timeline; the session's own mutators are for the studio and for tests.
 #pragma once
 
-#include "vsculpt/studio/Script.h"
 #include "vsculpt/core/Config.h"
 #include "vsculpt/core/History.h"
 #include "vsculpt/core/Mesh.h"
@@ -15,6 +14,7 @@
 #include "vsculpt/core/Project.h"
 #include "vsculpt/core/ProjectLock.h"
 #include "vsculpt/core/Sculpture.h"
+#include "vsculpt/studio/Script.h"
 
 #include <filesystem>
 #include <memory>

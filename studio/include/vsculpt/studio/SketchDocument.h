@@ -19,6 +19,7 @@
 
 #include <glm/vec2.hpp>
 
+#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -37,6 +38,37 @@ using sketch::Stroke;
 using sketch::StrokeKind;
 
 // ---------------------------------------------------------------------------------------------
+// Limits
+
+/// Bounds on every number and size the model accepts, at the pen API and in files
+/// (docs/sketch-mode.md, "Input bounds"). Each is far beyond real drawing; their point is that no
+/// input can make the model allocate or compute without bound, or overflow to infinity. Input
+/// beyond them is refused with std::invalid_argument naming the value.
+struct SketchLimits {
+    /// |x|, |y| of any canvas point (mm): 1 km, as for the sculpture (core::isUsablePoint).
+    static constexpr double maxCanvasMm = sketch::kMaxStrokeCoordinate;
+    /// |x|, |y| of a view point (mm on the tablet or screen).
+    static constexpr double maxViewMm = 1e6;
+    /// canvasFromView scale (canvas mm per view mm) and |offset| (canvas mm).
+    static constexpr double minViewScale = 1e-9, maxViewScale = 1e9;
+    static constexpr double maxViewOffsetMm = 1e9;
+    /// |time| of a pen sample (s): seconds since the Unix epoch fit.
+    static constexpr double maxTime = sketch::kMaxStrokeTime;
+    /// Factor of one scale edit, and of a stroke's accumulated placement scale.
+    static constexpr double minEditFactor = 1e-6, maxEditFactor = 1e6;
+    /// Samples in one stroke: over 8 minutes of a 200 Hz tablet.
+    static constexpr std::size_t maxStrokeSamples = 100'000;
+    /// Strokes in one page's history, actions in its log plus redo stack, pages in a document.
+    static constexpr std::size_t maxPageStrokes = 100'000;
+    static constexpr std::size_t maxPageActions = 1'000'000;
+    static constexpr std::size_t maxPages = 10'000;
+    /// Samples in all strokes of a file (about 800 MB of JSON).
+    static constexpr std::size_t maxDocumentSamples = 10'000'000;
+    /// Bytes of a page name or group name.
+    static constexpr std::size_t maxNameBytes = 1024;
+};
+
+// ---------------------------------------------------------------------------------------------
 // Canvas view
 
 /// canvasFromView: canvas = scale · view + offset. scale is canvas mm per view mm (1/zoom).
@@ -47,10 +79,12 @@ struct CanvasView {
     glm::dvec2 canvasFromView(glm::dvec2 view) const { return scale * view + offset; }
     glm::dvec2 viewFromCanvas(glm::dvec2 canvas) const { return (canvas - offset) / scale; }
     /// Magnifies the content by `factor` (> 1 zooms in) keeping the canvas point under
-    /// `viewPoint` fixed. Throws std::invalid_argument for a non-finite point, a factor that
-    /// is not finite and positive, or a resulting scale outside [1e-9, 1e9].
+    /// `viewPoint` fixed. Throws std::invalid_argument (view unchanged) for a point outside
+    /// SketchLimits::maxViewMm, a factor that is not finite and positive, or a resulting scale
+    /// or offset outside SketchLimits.
     void zoomAbout(glm::dvec2 viewPoint, double factor);
-    /// Drags the canvas with the pen: the content moves by `deltaView` view mm.
+    /// Drags the canvas with the pen: the content moves by `deltaView` view mm. Throws like
+    /// zoomAbout.
     void pan(glm::dvec2 deltaView);
     void reset() { *this = CanvasView{}; }
     bool operator==(const CanvasView&) const = default;
@@ -234,7 +268,8 @@ class SketchPage {
     void zoomAbout(glm::dvec2 viewPoint, double factor) { view_.zoomAbout(viewPoint, factor); }
     void pan(glm::dvec2 deltaView) { view_.pan(deltaView); }
     void resetView() { view_.reset(); }
-    void setView(const CanvasView& view);  // scale finite > 0, offset finite
+    /// Scale within [minViewScale, maxViewScale], |offset| <= maxViewOffsetMm (SketchLimits).
+    void setView(const CanvasView& view);
 
     // Settings (not actions: undo never changes them).
     SketchMode mode() const { return mode_; }
@@ -243,9 +278,11 @@ class SketchPage {
     void setKind(StrokeKind kind) { kind_ = kind; }
 
     // Pen. Samples are converted to canvas with the view at each sample. Throws
-    // std::invalid_argument (page unchanged) for non-finite values, pressure outside [0, 1],
-    // tilt outside [-90, 90], time going backwards within the stroke, pressure or tilt present
-    // in some samples of a stroke and not others, penDown while down or move/up while up.
+    // std::invalid_argument (page unchanged) for non-finite values, a view or canvas position
+    // or a time outside SketchLimits, pressure outside [0, 1], tilt outside [-90, 90], time
+    // going backwards within the stroke, pressure or tilt present in some samples of a stroke
+    // and not others, penDown while down or move/up while up, more than maxStrokeSamples
+    // samples in the stroke, or penDown on a page whose history holds maxPageStrokes strokes.
     // In clean-up mode with the pause trigger, a penDown pauseSeconds after the pending group's
     // last stroke ended first ends that group (its own action).
     void penDown(const PenSample& sample);
@@ -268,6 +305,9 @@ class SketchPage {
     /// Ends the pending group now (any trigger). Returns false when nothing was pending.
     bool endGroup();
     const CleanupSession& cleanup() const { return session_; }
+    /// For a live clean-up stroke: which clean-up limits it hit (StrokeReport::note), empty when
+    /// none did. Throws std::invalid_argument for a stroke that is not a live clean-up stroke.
+    std::string cleanupNote(int strokeId) const;
     std::vector<CleanCurve> cleanCurves() const { return session_.curves(); }
     std::vector<int> pendingStrokes() const;  // archive ids
 
@@ -285,7 +325,9 @@ class SketchPage {
     const std::vector<int>& selection() const { return selection_; }
     /// Bounding box (min, max) of the selection in canvas mm; nullopt when empty.
     std::optional<std::pair<glm::dvec2, glm::dvec2>> selectionBounds() const;
-    /// Each returns false (no action) when nothing is selected. Delta finite; factor finite > 0.
+    /// Each returns false (no action) when nothing is selected. Delta finite, factor within
+    /// SketchLimits' edit factors, pivot on the canvas; an edit that would move a point off the
+    /// canvas (SketchLimits::maxCanvasMm) throws std::invalid_argument and changes nothing.
     bool moveSelection(glm::dvec2 deltaCanvas);
     bool scaleSelection(double factor);  // about the selection's bounding-box centre
     bool scaleSelection(double factor, glm::dvec2 pivot);
@@ -329,7 +371,8 @@ class SketchPage {
     const SketchParams& params() const { return params_; }
 
     /// Rebuilds a page from a saved history and log (the file loader). Throws
-    /// std::invalid_argument naming "done[i]" / "redo[i]" for an action that does not apply.
+    /// std::invalid_argument naming "strokes[i]", "done[i]" or "redo[i]" for a stroke outside
+    /// SketchLimits or an action that does not apply.
     static SketchPage restore(std::string name, std::string group, const SketchParams& params,
                               std::vector<ArchivedStroke> archive,
                               const std::vector<SketchAction>& done,
@@ -408,7 +451,9 @@ class SketchDocument {
     /// is not saved.
     std::string toJson() const;
     /// Throws std::invalid_argument naming the field path of the first problem, e.g.
-    /// "pages[1].strokes[3].samples[0].pressure: outside [0, 1]".
+    /// "pages[1].strokes[3].samples[0].pressure: outside [0, 1]": malformed JSON, wrong types,
+    /// missing fields, numbers that are not finite or lie outside SketchLimits, unknown names,
+    /// ids that name nothing, sizes beyond SketchLimits, actions that do not replay.
     static SketchDocument fromJson(const std::string& text, const SketchParams& params = {});
 
   private:

@@ -5,8 +5,8 @@
 #pragma once
 
 #include "vsculpt/core/Mesh.h"
-#include "vsculpt/studio/SketchDocument.h"
 #include "vsculpt/sketch/SketchSolid.h"
+#include "vsculpt/studio/SketchDocument.h"
 
 #include <optional>
 #include <string>

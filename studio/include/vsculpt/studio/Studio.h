@@ -12,10 +12,10 @@
 /// the session journals every sculpt step before it counts as done.
 #pragma once
 
+#include "vsculpt/sketch/SketchSolid.h"
 #include "vsculpt/studio/Script.h"
 #include "vsculpt/studio/Session.h"
 #include "vsculpt/studio/SketchDocument.h"
-#include "vsculpt/sketch/SketchSolid.h"
 
 #include <filesystem>
 #include <functional>
@@ -37,8 +37,8 @@ using SketchPlane = sketch::SketchPlane;
 studio::SketchParams recommendedSketchParams();
 
 /// Turns a stroke drawn over a `viewportPx` front view of the sculpture (pixels, origin top
-/// left; framed from the front as the window starts) into polylines on the sculpture's surface (object mm).
-/// The app installs one built on its ray tracer; the studio itself has no renderer.
+/// left; framed from the front as the window starts) into polylines on the sculpture's surface
+/// (object mm). The app installs one built on its ray tracer; the studio itself has no renderer.
 using SurfaceProjector = std::function<std::vector<std::vector<core::Vec3>>(
     const Session& session, const std::vector<glm::dvec2>& strokePx, glm::ivec2 viewportPx)>;
 

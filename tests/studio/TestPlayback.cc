@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: MIT
 // Golden playback: the example scripts, checked by mesh properties (not pixels).
-#include "vsculpt/studio/Session.h"
 #include "vsculpt/core/EvalField.h"
+#include "vsculpt/studio/Session.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
 using namespace vsculpt;
-using namespace vsculpt::app;
+using namespace vsculpt::studio;
 
 namespace {
 

@@ -4,6 +4,7 @@
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/core/ExportDxf.h"
 #include "vsculpt/core/ExportMesh.h"
+#include "vsculpt/core/Project.h"
 #include "vsculpt/core/WriteFileAtomically.h"
 #include "vsculpt/devices/Recording.h"
 #include "vsculpt/render/Shot.h"
@@ -212,6 +213,11 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
         }
     }
 
+    if (!o.configPath.empty() && !o.projectDir.empty() &&
+        std::filesystem::exists(core::snapshotPath(o.projectDir)))
+        err << "vsculpt play: note: " << o.projectDir
+            << " is an existing project: it keeps its sculpture settings (tools, field, zoom); "
+               "--config gives the machine's (bindings, display, devices)\n";
     RigOptions ro;
     ro.project = o.projectDir.empty() ? ProjectChoice::None : ProjectChoice::Given;
     ro.projectDir = o.projectDir;

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/render/Shot.h"
 
+#include "vsculpt/core/WriteFileAtomically.h"
+
 #include "GlCommon.h"
 
 #include <png.h>
@@ -118,19 +120,27 @@ Image renderShot(const core::Mesh& mesh, const ShotOptions& o) {
     return img;
 }
 
+namespace {
+
+// libpng writes through this callback into memory; the file is then written in one piece.
+void appendToString(png_structp png, png_bytep data, png_size_t length) {
+    static_cast<std::string*>(png_get_io_ptr(png))
+        ->append(reinterpret_cast<const char*>(data), length);
+}
+
+void noFlush(png_structp) {}
+
+}  // namespace
+
 void writePng(const Image& image, const std::filesystem::path& path) {
-    const std::filesystem::path tmp = path.string() + ".part";
-    FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (!f) throw RenderError(path.string() + ": cannot open for writing");
+    std::string bytes;
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
     png_infop info = png ? png_create_info_struct(png) : nullptr;
     if (!png || !info || setjmp(png_jmpbuf(png))) {
         png_destroy_write_struct(&png, &info);
-        std::fclose(f);
-        std::filesystem::remove(tmp);
         throw RenderError(path.string() + ": PNG encoding failed");
     }
-    png_init_io(png, f);
+    png_set_write_fn(png, &bytes, appendToString, noFlush);
     png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), 8,
                  PNG_COLOR_TYPE_RGBA, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                  PNG_FILTER_TYPE_DEFAULT);
@@ -139,13 +149,12 @@ void writePng(const Image& image, const std::filesystem::path& path) {
         png_write_row(png, image.rgba.data() + size_t(y) * image.width * 4);
     png_write_end(png, nullptr);
     png_destroy_write_struct(&png, &info);
-    const bool ok = std::fflush(f) == 0;
-    std::fclose(f);
-    std::error_code ec;
-    if (ok) std::filesystem::rename(tmp, path, ec);
-    if (!ok || ec) {
-        std::filesystem::remove(tmp);
-        throw RenderError(path.string() + ": cannot write");
+    // The same atomic writer as projects and exports: a unique temporary name that is never
+    // a planted link, renamed into place once complete.
+    try {
+        core::writeFileAtomically(path, bytes, false);
+    } catch (const std::exception& e) {
+        throw RenderError(e.what());
     }
 }
 

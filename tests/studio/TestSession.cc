@@ -201,3 +201,37 @@ TEST(Session, ConfigRoundTripsThroughJson) {
 }
 
 }  // namespace
+
+namespace {
+
+// Key bindings, display and lens, USB tables and tracker calibration belong to the machine:
+// a project does not store them, and a reopened project takes them from the config in use.
+TEST(Session, AReopenedProjectTakesTheMachineSettingsOfTheConfigInUse) {
+    TempDir dir;
+    core::SculptConfig first = smallConfig();
+    first.render.ipdMm = 61;
+    first.interaction.bindings["undo"] = "U";
+    first.devices.penStation = 1;
+    {
+        auto s = Session::openProject(dir.path, first);
+        s->stroke({Vec3(0, 0, 30), Vec3(4, 0, 30)}, false);
+        s->save();
+    }
+    core::SculptConfig second = smallConfig();
+    second.sphereRadiusMm = 12;  // a sculpture setting: the project's own wins
+    second.render.ipdMm = 70;
+    second.interaction.bindings["undo"] = "Y";
+    second.devices.penStation = 3;
+    auto s = Session::openProject(dir.path, second);
+    const core::SculptConfig& used = s->sculpture().config();
+    EXPECT_EQ(used.sphereRadiusMm, 30);
+    EXPECT_EQ(used.render.ipdMm, 70);
+    EXPECT_EQ(used.interaction.bindings.at("undo"), "Y");
+    EXPECT_EQ(used.devices.penStation, 3);
+    // The snapshot holds no machine section at all.
+    const core::SnapshotContents snap = core::readSnapshot(core::snapshotPath(dir.path));
+    for (const char* section : {"\"render\"", "\"interaction\"", "\"devices\""})
+        EXPECT_EQ(snap.configJson.find(section), std::string::npos) << section;
+}
+
+}  // namespace

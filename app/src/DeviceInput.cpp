@@ -119,10 +119,10 @@ struct DeviceInput::State {
 
     static devices::HeadCalibration headCalibration(const core::DevicesConfig& c) {
         devices::HeadCalibration cal;
-        const glm::dquat q = eulerDegrees(c.worldFromTrackerRotationDeg);
-        glm::dmat4 m = glm::mat4_cast(q);
-        m[3] = glm::dvec4(c.worldFromTrackerTranslationMm, 1.0);
-        cal.worldFromTracker = m;
+        cal.worldFromTracker =
+            core::RigidTransform{eulerDegrees(c.worldFromTrackerRotationDeg),
+                                 c.worldFromTrackerTranslationMm}
+                .matrix();
         return cal;
     }
 

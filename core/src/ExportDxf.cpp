@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/core/ExportDxf.h"
 
+#include "vsculpt/core/WriteFileAtomically.h"
+
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 
 namespace vsculpt::core {
@@ -90,50 +92,39 @@ void writeDxf(const std::filesystem::path& path, std::span<const Mesh> surfaces,
     if (entities == 0)
         throw std::invalid_argument("writeDxf: nothing to write (no triangles and no curves)");
 
-    const std::filesystem::path tmp = path.string() + ".part";
-    {
-        std::ofstream out(tmp);
-        if (!out) throw ExportError(path.string() + ": cannot open for writing");
-        out.precision(std::numeric_limits<double>::max_digits10);
-        out << "0\nSECTION\n2\nHEADER\n9\n$ACADVER\n1\nAC1009\n9\n$INSUNITS\n70\n4\n0\nENDSEC\n";
-        writeLayerTable(out, layers);
-        out << "0\nSECTION\n2\nENTITIES\n";
-        for (size_t s = 0; s < surfaces.size(); ++s) {
-            const Mesh& m = surfaces[s];
-            const std::string& layer = layerOf(options.surfaceLayers, options.surfaceLayer, s);
-            for (size_t t = 0; t < m.triangleCount(); ++t) {
-                out << "0\n3DFACE\n8\n" << layer << '\n';
-                for (int q = 0; q < 4; ++q)
-                    point(out, 10 + q, m.positions[m.indices[3 * t + std::min(q, 2)]]);
-            }
-        }
-        for (size_t c = 0; c < curves.size(); ++c) {
-            const std::string& layer = layerOf(options.curveLayers, options.curveLayer, c);
-            const bool closed = c < options.closedCurves.size() && options.closedCurves[c];
-            // 66 = 1: vertices follow; 70 bit 8: 3D polyline, bit 1: closed.
-            out << "0\nPOLYLINE\n8\n" << layer << "\n66\n1\n";
-            point(out, 10, Vec3(0.0));
-            out << "70\n" << (8 | (closed ? 1 : 0)) << '\n';
-            for (const Vec3& p : curves[c]) {
-                out << "0\nVERTEX\n8\n" << layer << '\n';
-                point(out, 10, p);
-                out << "70\n32\n";  // 32: a 3D polyline vertex
-            }
-            out << "0\nSEQEND\n8\n" << layer << '\n';
-        }
-        out << "0\nENDSEC\n0\nEOF\n";
-        out.flush();
-        if (!out) {
-            out.close();
-            std::filesystem::remove(tmp);
-            throw ExportError(path.string() + ": write failed (disk full?)");
+    std::ostringstream out;
+    out.precision(std::numeric_limits<double>::max_digits10);
+    out << "0\nSECTION\n2\nHEADER\n9\n$ACADVER\n1\nAC1009\n9\n$INSUNITS\n70\n4\n0\nENDSEC\n";
+    writeLayerTable(out, layers);
+    out << "0\nSECTION\n2\nENTITIES\n";
+    for (size_t s = 0; s < surfaces.size(); ++s) {
+        const Mesh& m = surfaces[s];
+        const std::string& layer = layerOf(options.surfaceLayers, options.surfaceLayer, s);
+        for (size_t t = 0; t < m.triangleCount(); ++t) {
+            out << "0\n3DFACE\n8\n" << layer << '\n';
+            for (int q = 0; q < 4; ++q)
+                point(out, 10 + q, m.positions[m.indices[3 * t + std::min(q, 2)]]);
         }
     }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::filesystem::remove(tmp);
-        throw ExportError(path.string() + ": cannot write: " + ec.message());
+    for (size_t c = 0; c < curves.size(); ++c) {
+        const std::string& layer = layerOf(options.curveLayers, options.curveLayer, c);
+        const bool closed = c < options.closedCurves.size() && options.closedCurves[c];
+        // 66 = 1: vertices follow; 70 bit 8: 3D polyline, bit 1: closed.
+        out << "0\nPOLYLINE\n8\n" << layer << "\n66\n1\n";
+        point(out, 10, Vec3(0.0));
+        out << "70\n" << (8 | (closed ? 1 : 0)) << '\n';
+        for (const Vec3& p : curves[c]) {
+            out << "0\nVERTEX\n8\n" << layer << '\n';
+            point(out, 10, p);
+            out << "70\n32\n";  // 32: a 3D polyline vertex
+        }
+        out << "0\nSEQEND\n8\n" << layer << '\n';
+    }
+    out << "0\nENDSEC\n0\nEOF\n";
+    try {
+        writeFileAtomically(path, std::move(out).str(), false);
+    } catch (const FileWriteError& e) {
+        throw ExportError(e.what());
     }
 }
 

@@ -2,6 +2,7 @@
 #include "vsculpt/core/ExportMesh.h"
 
 #include "vsculpt/core/ExportDxf.h"
+#include "vsculpt/core/WriteFileAtomically.h"
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/MeshToVolume.h>
@@ -9,8 +10,8 @@
 
 #include <algorithm>
 #include <cstring>
-#include <fstream>
 #include <mutex>
+#include <sstream>
 
 namespace vsculpt::core {
 
@@ -22,37 +23,10 @@ std::string lower(std::string s) {
     return s;
 }
 
-/// Writes through a temporary file and renames it over `path` once complete.
-template <typename Fn>
-void writeAtomically(const std::filesystem::path& path, Fn&& write) {
-    const std::filesystem::path tmp = path.string() + ".part";
-    try {
-        write(tmp);
-    } catch (const ExportError&) {
-        std::filesystem::remove(tmp);
-        throw;
-    } catch (const std::exception& e) {
-        std::filesystem::remove(tmp);
-        throw ExportError(path.string() + ": " + e.what());
-    }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::filesystem::remove(tmp);
-        throw ExportError(path.string() + ": cannot write: " + ec.message());
-    }
-}
-
-std::ofstream openOut(const std::filesystem::path& p, bool binary) {
-    std::ofstream out(p, binary ? std::ios::binary : std::ios::out);
-    if (!out) throw ExportError(p.string() + ": cannot open for writing");
+std::ostringstream textOut() {
+    std::ostringstream out;
     out.precision(9);
     return out;
-}
-
-void finish(std::ofstream& out, const std::filesystem::path& p) {
-    out.flush();
-    if (!out) throw ExportError(p.string() + ": write failed (disk full?)");
 }
 
 template <typename T>
@@ -68,8 +42,11 @@ Vec3 faceNormal(const Mesh& m, size_t t) {
     return l > 0 ? n / l : Vec3(0.0);
 }
 
-void writeObj(const Mesh& m, const std::filesystem::path& p) {
-    std::ofstream out = openOut(p, false);
+// Each format is rendered in memory and written with writeFileAtomically: no library ever
+// opens the output path, so no partial or foreign file can appear under the real name.
+
+std::string writeObj(const Mesh& m) {
+    std::ostringstream out = textOut();
     out << "# vsculpt mesh, millimetres\n";
     for (const Vec3& v : m.positions)
         out << "v " << v.x << ' ' << v.y << ' ' << v.z << '\n';
@@ -86,11 +63,11 @@ void writeObj(const Mesh& m, const std::filesystem::path& p) {
         }
         out << '\n';
     }
-    finish(out, p);
+    return std::move(out).str();
 }
 
-void writeStl(const Mesh& m, const std::filesystem::path& p) {
-    std::ofstream out = openOut(p, true);
+std::string writeStl(const Mesh& m) {
+    std::ostringstream out;
     char header[80] = {};
     std::snprintf(header, sizeof header, "vsculpt binary STL, millimetres");
     out.write(header, sizeof header);
@@ -108,11 +85,11 @@ void writeStl(const Mesh& m, const std::filesystem::path& p) {
         }
         put(out, uint16_t(0));
     }
-    finish(out, p);
+    return std::move(out).str();
 }
 
-void writePly(const Mesh& m, const std::filesystem::path& p) {
-    std::ofstream out = openOut(p, true);
+std::string writePly(const Mesh& m) {
+    std::ostringstream out = textOut();
     const bool normals = m.normals.size() == m.positions.size();
     out << "ply\nformat binary_little_endian 1.0\ncomment vsculpt mesh, millimetres\n"
         << "element vertex " << m.positions.size() << "\n"
@@ -135,10 +112,10 @@ void writePly(const Mesh& m, const std::filesystem::path& p) {
         for (int q = 0; q < 3; ++q)
             put(out, int32_t(m.indices[3 * t + q]));
     }
-    finish(out, p);
+    return std::move(out).str();
 }
 
-void writeGlb(const Mesh& m, const std::filesystem::path& p) {
+std::string writeGlb(const Mesh& m, const std::filesystem::path& p) {
     tinygltf::Model model;
     model.asset.version = "2.0";
     model.asset.generator = "vsculpt";
@@ -215,11 +192,25 @@ void writeGlb(const Mesh& m, const std::filesystem::path& p) {
     model.scenes.push_back(scene);
     model.defaultScene = 0;
     tinygltf::TinyGLTF writer;
-    if (!writer.WriteGltfSceneToFile(&model, p.string(), true, true, false, true))
+    std::ostringstream out;
+    if (!writer.WriteGltfSceneToStream(&model, out, false, true))
         throw ExportError(p.string() + ": glTF writer failed");
+    return std::move(out).str();
 }
 
-void writeVdb(const Mesh& m, const std::filesystem::path& p, const ExportOptions& o) {
+/// io::File writes only to a path it opens itself; its seekable archive format (grid offsets
+/// patched in after each grid) is reached through Archive's protected stream writer, which an
+/// in-memory stream also supports.
+class VdbMemoryArchive : public openvdb::io::Archive {
+  public:
+    std::string write(const openvdb::GridPtrVec& grids) const {
+        std::ostringstream out(std::ios::out | std::ios::binary);
+        openvdb::io::Archive::write(out, grids, /*seekable=*/true);
+        return std::move(out).str();
+    }
+};
+
+std::string writeVdb(const Mesh& m, const ExportOptions& o) {
     static std::once_flag once;
     std::call_once(once, [] { openvdb::initialize(); });
     const auto xform = openvdb::math::Transform::createLinearTransform(o.voxelSizeMm);
@@ -233,10 +224,7 @@ void writeVdb(const Mesh& m, const std::filesystem::path& p, const ExportOptions
         *xform, points, tris, float(o.narrowBandVoxels));
     grid->setName("sculpture");
     grid->insertMeta("units", openvdb::StringMetadata("mm"));
-    openvdb::io::File file(p.string());
-    openvdb::GridPtrVec grids{grid};
-    file.write(grids);
-    file.close();
+    return VdbMemoryArchive().write(openvdb::GridPtrVec{grid});
 }
 
 }  // namespace
@@ -264,18 +252,29 @@ void exportMesh(const Mesh& mesh, const std::filesystem::path& path, const Expor
         }
         return;
     }
-    writeAtomically(path, [&](const std::filesystem::path& tmp) {
+    std::string bytes;
+    try {
         if (ext == ".obj")
-            writeObj(mesh, tmp);
+            bytes = writeObj(mesh);
         else if (ext == ".stl")
-            writeStl(mesh, tmp);
+            bytes = writeStl(mesh);
         else if (ext == ".ply")
-            writePly(mesh, tmp);
+            bytes = writePly(mesh);
         else if (ext == ".glb")
-            writeGlb(mesh, tmp);
+            bytes = writeGlb(mesh, path);
         else
-            writeVdb(mesh, tmp, o);
-    });
+            bytes = writeVdb(mesh, o);
+    } catch (const ExportError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw ExportError(path.string() + ": " + e.what());
+    }
+    try {
+        // Not durable: an export is redone from the project, which is.
+        writeFileAtomically(path, bytes, false);
+    } catch (const FileWriteError& e) {
+        throw ExportError(e.what());
+    }
 }
 
 }  // namespace vsculpt::core

@@ -23,7 +23,6 @@ namespace vsculpt::core {
 namespace {
 
 constexpr int64_t kMaxSolidVertices = int64_t(1) << 25;
-constexpr int32_t kMaxCoord = (1 << 22) - 1;  // SkeletonStore's limit
 
 struct EdgeKey {
     uint32_t a, b;
@@ -247,7 +246,7 @@ SolidPlacement placeSolid(Sculpture& sculpture, const Mesh& solid, int level) {
     for (int a = 0; a < 3; ++a) {
         const double l = std::floor(bounds.min[a] / h - outside);
         const double u = std::ceil(bounds.max[a] / h + outside);
-        if (l < -kMaxCoord || u > kMaxCoord)
+        if (l < -kMaxLatticeCoord || u > kMaxLatticeCoord)
             throw std::invalid_argument("solid lies beyond the lattice range of level " +
                                         std::to_string(level) + " (choose a larger level)");
         (&lo.x)[a] = int32_t(l);
@@ -375,7 +374,7 @@ SolidPlacement replaySolid(Sculpture& sculpture, int level,
         // A replacing solid also takes the previous solid's clay away, on its level.
         checkedLevel(c.level, false);
         for (int32_t v : {c.coord.x, c.coord.y, c.coord.z})
-            if (v < -kMaxCoord || v > kMaxCoord)
+            if (v < -kMaxLatticeCoord || v > kMaxLatticeCoord)
                 throw std::invalid_argument("solid replay: lattice coordinate " +
                                             std::to_string(v) + " beyond +-2^22");
     }

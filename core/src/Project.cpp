@@ -1,25 +1,44 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/core/Project.h"
 
+#include "vsculpt/core/PlaceSolid.h"
 #include "vsculpt/core/Sculpture.h"
+#include "vsculpt/core/WriteFileAtomically.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <zlib.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
-#include <fstream>
 #include <sstream>
 
 namespace vsculpt::core {
 
 namespace {
 
+namespace fs = std::filesystem;
+
 constexpr char kJournalMagic[8] = {'V', 'S', 'J', 'R', 'N', 'L', '0', '1'};
 constexpr char kSnapshotMagic[8] = {'V', 'S', 'S', 'N', 'A', 'P', '0', '1'};
+constexpr size_t kMagicBytes = sizeof kJournalMagic;
+constexpr size_t kVersionBytes = 2;            // the magic's last two characters
 constexpr uint32_t kRecordMark = 0x5245434Bu;  // "RECK"
 constexpr uint32_t kMaxRecordBytes = 64u << 20;
+constexpr size_t kFrameBytes = 12;  // mark, payload length, payload CRC
+
+// Encoded sizes, to check a count against the bytes left before allocating for it.
+constexpr size_t kSampleBytes = 24;    // 3 x f64
+constexpr size_t kChangeBytes = 22;    // u8 level, 3 x i32, u8 flags, 2 x f32
+constexpr size_t kSkeletonBytes = 17;  // u8 level, 3 x i32, f32
+constexpr size_t kMinStrokeBytes = 10;
+
+const std::string& journalHeader() {
+    static const std::string h(kJournalMagic, kMagicBytes);
+    return h;
+}
 
 /// Little-endian byte writer/reader (the file format is LE on every platform).
 class Writer {
@@ -43,10 +62,17 @@ class Writer {
     }
 };
 
+/// A structure or value problem met while decoding; the caller names the file and entry.
+class DecodeError : public std::runtime_error {
+  public:
+    DecodeError(const std::string& why, size_t at) : std::runtime_error(why), pos(at) {}
+    size_t pos;
+};
+
 class Reader {
   public:
-    Reader(const std::string& data, size_t begin, size_t end, std::string file)
-        : mData(data), mPos(begin), mEnd(end), mFile(std::move(file)) {}
+    Reader(const std::string& data, size_t begin, size_t end)
+        : mData(data), mPos(begin), mEnd(end) {}
     template <typename T>
     T pod() {
         need(sizeof(T));
@@ -67,42 +93,186 @@ class Reader {
         return Vec3(x, y, z);
     }
     size_t pos() const { return mPos; }
-    [[noreturn]] void fail(const std::string& why) const {
-        throw ProjectError(mFile + ": byte " + std::to_string(mPos) + ": " + why);
-    }
+    size_t left() const { return mEnd - mPos; }
+    [[noreturn]] void fail(const std::string& why) const { throw DecodeError(why, mPos); }
     void need(size_t n) const {
-        if (mEnd - mPos < n) fail("unexpected end of data");
+        if (left() < n) fail("unexpected end of data");
     }
 
   private:
     const std::string& mData;
     size_t mPos, mEnd;
-    std::string mFile;
 };
 
 uint32_t crc(const char* p, size_t n) {
     return uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(p), uInt(n)));
 }
 
-std::string readAll(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw ProjectError(path.string() + ": cannot open");
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
+std::string errnoText(int err) {
+    return std::strerror(err);
 }
 
-void writeAllOrThrow(int fd, const std::string& data, const std::filesystem::path& path) {
+std::string readAll(const fs::path& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) throw ProjectError(path.string() + ": cannot open: " + errnoText(errno));
+    std::string data;
+    char buf[1 << 16];
+    for (;;) {
+        const ssize_t n = ::read(fd, buf, sizeof buf);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) {
+            const int err = errno;
+            ::close(fd);
+            throw ProjectError(path.string() + ": cannot read: " + errnoText(err));
+        }
+        if (n == 0) break;
+        data.append(buf, size_t(n));
+    }
+    ::close(fd);
+    return data;
+}
+
+/// Throws ProjectError unless `data` starts with `magic`; names another version as such.
+void checkMagic(const std::string& data, const char (&magic)[8], const fs::path& path,
+                const char* what) {
+    if (data.size() >= kMagicBytes && std::memcmp(data.data(), magic, kMagicBytes) == 0) return;
+    const size_t family = kMagicBytes - kVersionBytes;
+    if (data.size() >= kMagicBytes && std::memcmp(data.data(), magic, family) == 0)
+        throw ProjectError(path.string() + ": byte 0: a " + what + " of format version " +
+                           data.substr(family, kVersionBytes) + "; this vsculpt reads version " +
+                           std::string(magic + family, kVersionBytes));
+    throw ProjectError(path.string() + ": byte 0: not a vsculpt " + what + " (bad magic)");
+}
+
+void writeAllOrThrow(int fd, const std::string& data, const fs::path& path) {
     size_t done = 0;
     while (done < data.size()) {
         const ssize_t n = ::write(fd, data.data() + done, data.size() - done);
         if (n < 0) {
             if (errno == EINTR) continue;
-            throw ProjectError(path.string() + ": write failed: " + std::strerror(errno));
+            throw ProjectError(path.string() + ": write failed: " + errnoText(errno));
         }
+        if (n == 0) throw ProjectError(path.string() + ": write failed: no progress");
         done += size_t(n);
     }
 }
+
+void syncFolder(const fs::path& dir) {
+    const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0 || ::fsync(fd) != 0) {
+        const int err = errno;
+        if (fd >= 0) ::close(fd);
+        throw ProjectError(dir.string() + ": cannot flush the folder to disk: " + errnoText(err));
+    }
+    ::close(fd);
+}
+
+fs::path folderOf(const fs::path& path) {
+    return path.has_parent_path() ? path.parent_path() : fs::path(".");
+}
+
+// ------------------------------------------------------------------------------ value checks
+// Each returns why a value cannot be stored, or "" when it can. The same checks run before
+// writing and after reading, so nothing written is ever refused when read back.
+
+std::string number(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
+std::string pointProblem(const Vec3& p) {
+    for (int a = 0; a < 3; ++a) {
+        const std::string axis(1, "xyz"[a]);
+        if (std::isnan(p[a])) return axis + " is NaN";
+        if (std::isinf(p[a])) return axis + " is infinite";
+        if (!(std::abs(p[a]) < kMaxProjectCoordinateMm))
+            return axis + " is " + number(p[a]) + " mm, not within +-" +
+                   number(kMaxProjectCoordinateMm) + " mm";
+    }
+    return {};
+}
+
+std::string weightProblem(float w) {
+    if (std::isnan(w)) return "is NaN";
+    if (std::isinf(w)) return "is infinite";
+    if (std::abs(w) > kMaxSkeletonWeight)
+        return "is " + number(w) + ", beyond +-" + number(kMaxSkeletonWeight);
+    return {};
+}
+
+std::string levelProblem(int level) {
+    if (level < 1 || level > kLevelCount)
+        return "level " + std::to_string(level) + " is outside 1.." + std::to_string(kLevelCount);
+    return {};
+}
+
+std::string coordProblem(const LatticeCoord& c) {
+    const int32_t v[3] = {c.x, c.y, c.z};
+    for (int a = 0; a < 3; ++a)
+        if (v[a] < -kMaxLatticeCoord || v[a] > kMaxLatticeCoord)
+            return std::string("lattice ") + "xyz"[a] + " " + std::to_string(v[a]) +
+                   " is beyond +-" + std::to_string(kMaxLatticeCoord);
+    return {};
+}
+
+std::string changeProblem(const SkeletonChange& c) {
+    if (std::string p = levelProblem(c.level); !p.empty()) return p;
+    if (std::string p = coordProblem(c.coord); !p.empty()) return p;
+    if (c.before)
+        if (std::string p = weightProblem(*c.before); !p.empty()) return "weight before " + p;
+    if (c.after)
+        if (std::string p = weightProblem(*c.after); !p.empty()) return "weight after " + p;
+    return {};
+}
+
+std::string samplesProblem(const std::vector<Vec3>& samples) {
+    if (samples.size() > kMaxStrokeSamples)
+        return std::to_string(samples.size()) + " samples, more than the " +
+               std::to_string(kMaxStrokeSamples) + " a stroke may hold";
+    for (size_t i = 0; i < samples.size(); ++i)
+        if (std::string p = pointProblem(samples[i]); !p.empty())
+            return "sample " + std::to_string(i + 1) + " " + p;
+    return {};
+}
+
+std::string changesProblem(const std::vector<SkeletonChange>& changes) {
+    for (size_t i = 0; i < changes.size(); ++i)
+        if (std::string p = changeProblem(changes[i]); !p.empty())
+            return "change " + std::to_string(i + 1) + ": " + p;
+    return {};
+}
+
+std::string strokeProblem(const StrokeRecord& r) {
+    if (std::string p = levelProblem(r.level); !p.empty()) return p;
+    if (r.op != ToolOp::Add && r.op != ToolOp::Carve)
+        return "tool operation " + std::to_string(int(r.op)) + " is unknown";
+    if (std::string p = samplesProblem(r.samples); !p.empty()) return p;
+    return changesProblem(r.changes);
+}
+
+std::string recordProblem(const JournalRecord& r) {
+    if (r.sequence == 0) return "sequence 0 (sequence numbers start at 1)";
+    switch (r.op) {
+        case JournalOp::Stroke:
+            if (std::string p = levelProblem(r.level); !p.empty()) return p;
+            if (r.tool != ToolOp::Add && r.tool != ToolOp::Carve)
+                return "tool operation " + std::to_string(int(r.tool)) + " is unknown";
+            return samplesProblem(r.samples);
+        case JournalOp::Solid:
+            if (std::string p = levelProblem(r.solidLevel); !p.empty()) return "solid " + p;
+            if (r.changes.size() > kMaxJournalSolidChanges)
+                return std::to_string(r.changes.size()) + " vertex changes, more than the " +
+                       std::to_string(kMaxJournalSolidChanges) + " a solid may hold";
+            return changesProblem(r.changes);
+        case JournalOp::Undo:
+        case JournalOp::Redo:
+            return {};
+    }
+    return "operation " + std::to_string(int(r.op)) + " is unknown";
+}
+
+// ------------------------------------------------------------------------------ encoding
 
 void encodeStroke(Writer& w, const StrokeRecord& r) {
     w.pod(uint8_t(r.solid ? 2 : r.op == ToolOp::Add ? 0 : 1));
@@ -122,20 +292,29 @@ void encodeStroke(Writer& w, const StrokeRecord& r) {
     }
 }
 
+/// Decodes one stroke or solid and checks its values; DecodeError says which field is bad.
 StrokeRecord decodeStroke(Reader& r) {
     StrokeRecord s;
     const uint8_t op = r.pod<uint8_t>();
-    if (op > 2) r.fail("bad tool operation");
+    if (op > 2) r.fail("tool operation " + std::to_string(op) + " is unknown");
     s.op = op == 1 ? ToolOp::Carve : ToolOp::Add;
     s.solid = op == 2;
     s.level = r.pod<uint8_t>();
-    if (s.level < 1 || s.level > kLevelCount) r.fail("bad tool level");
+    if (std::string p = levelProblem(s.level); !p.empty()) r.fail(p);
     const uint32_t n = r.pod<uint32_t>();
-    r.need(size_t(n) * 24);
-    for (uint32_t i = 0; i < n; ++i)
+    if (n > kMaxStrokeSamples)
+        r.fail(std::to_string(n) + " samples, more than the " + std::to_string(kMaxStrokeSamples) +
+               " a stroke may hold");
+    r.need(size_t(n) * kSampleBytes);
+    s.samples.reserve(n);
+    for (uint32_t i = 0; i < n; ++i) {
         s.samples.push_back(r.vec());
+        if (std::string p = pointProblem(s.samples.back()); !p.empty())
+            r.fail("sample " + std::to_string(i + 1) + " " + p);
+    }
     const uint32_t m = r.pod<uint32_t>();
-    r.need(size_t(m) * 22);
+    r.need(size_t(m) * kChangeBytes);
+    s.changes.reserve(m);
     for (uint32_t i = 0; i < m; ++i) {
         SkeletonChange c;
         c.level = r.pod<uint8_t>();
@@ -144,112 +323,45 @@ StrokeRecord decodeStroke(Reader& r) {
         c.coord.z = r.pod<int32_t>();
         const uint8_t has = r.pod<uint8_t>();
         const float before = r.pod<float>(), after = r.pod<float>();
+        const std::string at = "change " + std::to_string(i + 1) + ": ";
+        if (has & ~3u) r.fail(at + "unknown flags " + std::to_string(has));
         if (has & 1) c.before = before;
         if (has & 2) c.after = after;
+        if (std::string p = changeProblem(c); !p.empty()) r.fail(at + p);
         s.changes.push_back(c);
     }
     return s;
 }
 
-}  // namespace
-
-// ------------------------------------------------------------------------------ journal
-
-JournalContents readJournal(const std::filesystem::path& path) {
-    JournalContents out;
-    if (!std::filesystem::exists(path)) return out;
-    const std::string data = readAll(path);
-    if (data.size() < sizeof kJournalMagic) {
-        out.warning = path.string() + ": shorter than its header; treated as empty";
-        return out;
+/// The payload after the sequence number; leaves `rec.sequence` as set by the caller.
+void decodeRecordBody(Reader& r, JournalRecord& rec) {
+    const uint8_t op = r.pod<uint8_t>();
+    if (op < 1 || op > 4) r.fail("operation " + std::to_string(op) + " is unknown");
+    rec.op = JournalOp(op);
+    if (rec.op == JournalOp::Stroke || rec.op == JournalOp::Solid) {
+        StrokeRecord s = decodeStroke(r);
+        if (s.solid != (rec.op == JournalOp::Solid)) r.fail("stroke and solid records mixed up");
+        if (s.solid) {
+            if (!s.samples.empty())
+                r.fail("a solid with " + std::to_string(s.samples.size()) + " tool samples");
+            if (s.changes.size() > kMaxJournalSolidChanges)
+                r.fail(std::to_string(s.changes.size()) + " vertex changes, more than the " +
+                       std::to_string(kMaxJournalSolidChanges) + " a solid may hold");
+            rec.solidLevel = s.level;
+            rec.changes = std::move(s.changes);
+        } else {
+            if (!s.changes.empty())
+                r.fail("a stroke with " + std::to_string(s.changes.size()) +
+                       " vertex changes (only solids have them)");
+            rec.tool = s.op;
+            rec.level = s.level;
+            rec.samples = std::move(s.samples);
+        }
     }
-    if (std::memcmp(data.data(), kJournalMagic, sizeof kJournalMagic) != 0)
-        throw ProjectError(path.string() + ": byte 0: not a vsculpt journal (bad magic)");
-    size_t pos = sizeof kJournalMagic;
-    out.validBytes = pos;
-    uint64_t expected = 0;
-    while (pos < data.size()) {
-        // Frame: mark, payload length, payload crc, payload.
-        auto bad = [&](const std::string& why) {
-            out.warning = path.string() + ": byte " + std::to_string(pos) + ": record " +
-                          std::to_string(out.records.size() + 1) + " " + why + "; kept the " +
-                          std::to_string(out.records.size()) + " complete record(s) before it";
-        };
-        if (data.size() - pos < 12) {
-            bad("is truncated");
-            break;
-        }
-        uint32_t mark, len, sum;
-        std::memcpy(&mark, data.data() + pos, 4);
-        std::memcpy(&len, data.data() + pos + 4, 4);
-        std::memcpy(&sum, data.data() + pos + 8, 4);
-        if (mark != kRecordMark || len > kMaxRecordBytes) {
-            bad("has a damaged header");
-            break;
-        }
-        if (data.size() - pos - 12 < len) {
-            bad("is truncated");
-            break;
-        }
-        if (crc(data.data() + pos + 12, len) != sum) {
-            bad("fails its checksum");
-            break;
-        }
-        try {
-            Reader r(data, pos + 12, pos + 12 + len, path.string());
-            JournalRecord rec;
-            rec.sequence = r.pod<uint64_t>();
-            const uint8_t op = r.pod<uint8_t>();
-            if (op < 1 || op > 4) r.fail("unknown journal operation");
-            rec.op = JournalOp(op);
-            if (rec.op == JournalOp::Stroke || rec.op == JournalOp::Solid) {
-                StrokeRecord s = decodeStroke(r);
-                if (s.solid != (rec.op == JournalOp::Solid))
-                    r.fail("stroke and solid records mixed up");
-                rec.tool = s.op;
-                rec.level = s.level;
-                rec.samples = std::move(s.samples);
-                if (s.solid) {
-                    rec.solidLevel = s.level;
-                    for (const SkeletonChange& c : s.changes)
-                        if (c.level < 1 || c.level > kLevelCount) r.fail("bad solid level");
-                    rec.changes = std::move(s.changes);
-                }
-            }
-            if (expected != 0 && rec.sequence != expected) r.fail("sequence number out of order");
-            expected = rec.sequence + 1;
-            out.records.push_back(std::move(rec));
-        } catch (const ProjectError& e) {
-            bad(std::string("cannot be decoded (") + e.what() + ")");
-            break;
-        }
-        pos += 12 + len;
-        out.validBytes = pos;
-    }
-    return out;
+    if (r.left() != 0) r.fail(std::to_string(r.left()) + " bytes after the record's end");
 }
 
-JournalWriter::JournalWriter(const std::filesystem::path& path, uint64_t validBytes) : mPath(path) {
-    mFd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
-    if (mFd < 0)
-        throw ProjectError(path.string() + ": cannot open for writing: " + std::strerror(errno));
-    if (validBytes < sizeof kJournalMagic) {
-        if (::ftruncate(mFd, 0) != 0)
-            throw ProjectError(path.string() + ": cannot truncate: " + std::strerror(errno));
-        writeAllOrThrow(mFd, std::string(kJournalMagic, sizeof kJournalMagic), path);
-        ::fdatasync(mFd);
-    } else if (::ftruncate(mFd, off_t(validBytes)) != 0) {
-        throw ProjectError(path.string() + ": cannot truncate: " + std::strerror(errno));
-    }
-    if (::lseek(mFd, 0, SEEK_END) < 0)
-        throw ProjectError(path.string() + ": cannot seek: " + std::strerror(errno));
-}
-
-JournalWriter::~JournalWriter() {
-    if (mFd >= 0) ::close(mFd);
-}
-
-void JournalWriter::append(const JournalRecord& rec) {
+std::string encodeRecord(const JournalRecord& rec) {
     Writer payload;
     payload.pod(rec.sequence);
     payload.pod(uint8_t(rec.op));
@@ -266,106 +378,477 @@ void JournalWriter::append(const JournalRecord& rec) {
         s.changes = rec.changes;
         encodeStroke(payload, s);
     }
-    if (payload.bytes.size() > kMaxRecordBytes)
-        throw ProjectError(mPath.string() + ": record " + std::to_string(rec.sequence) +
-                           " would be " + std::to_string(payload.bytes.size()) +
-                           " bytes, more than a journal record may hold");
-    Writer frame;
-    frame.pod(kRecordMark);
-    frame.pod(uint32_t(payload.bytes.size()));
-    frame.pod(crc(payload.bytes.data(), payload.bytes.size()));
-    frame.bytes += payload.bytes;
-    writeAllOrThrow(mFd, frame.bytes, mPath);
-    if (::fdatasync(mFd) != 0)
-        throw ProjectError(mPath.string() + ": cannot flush: " + std::strerror(errno));
+    return std::move(payload.bytes);
 }
 
-void JournalWriter::reset() {
-    if (::ftruncate(mFd, 0) != 0 || ::lseek(mFd, 0, SEEK_SET) < 0)
-        throw ProjectError(mPath.string() + ": cannot truncate: " + std::strerror(errno));
-    writeAllOrThrow(mFd, std::string(kJournalMagic, sizeof kJournalMagic), mPath);
-    ::fdatasync(mFd);
-}
-
-// ------------------------------------------------------------------------------ snapshot
-
-void writeSnapshot(const std::filesystem::path& path, const std::string& configJson,
-                   uint64_t lastSequence, const Sculpture& sculpture, const History& history) {
+/// The snapshot file's bytes; throws ProjectError (naming `path` and the entry) for a value
+/// readSnapshot would refuse, before anything is written.
+std::string encodeSnapshot(const fs::path& path, const std::string& configJson,
+                           uint64_t lastSequence, const Sculpture& sculpture,
+                           const History& history) {
     Writer w;
-    w.bytes.append(kSnapshotMagic, sizeof kSnapshotMagic);
+    w.bytes.append(kSnapshotMagic, kMagicBytes);
     w.pod(lastSequence);
     w.str(configJson);
     w.pod(uint64_t(sculpture.store().vertexCount()));
+    std::string problem;
+    size_t index = 0;
     sculpture.store().forEach([&](const SkeletonEntry& e) {
+        ++index;
+        if (problem.empty()) {
+            std::string p = levelProblem(e.level);
+            if (p.empty()) p = coordProblem(e.coord);
+            if (p.empty()) {
+                p = weightProblem(e.weight);
+                if (!p.empty()) p = "weight " + p;
+            }
+            if (!p.empty()) problem = "skeleton " + std::to_string(index) + ": " + p;
+        }
         w.pod(uint8_t(e.level));
         w.pod(e.coord.x);
         w.pod(e.coord.y);
         w.pod(e.coord.z);
         w.pod(e.weight);
     });
-    for (const auto* stack : {&history.done(), &history.undone()}) {
+    const std::pair<const char*, const std::vector<StrokeRecord>*> stacks[] = {
+        {"undo step ", &history.done()}, {"redo step ", &history.undone()}};
+    for (const auto& [name, stack] : stacks) {
         w.pod(uint32_t(stack->size()));
-        for (const StrokeRecord& r : *stack)
+        for (size_t i = 0; i < stack->size(); ++i) {
+            const StrokeRecord& r = (*stack)[i];
+            if (problem.empty())
+                if (std::string p = strokeProblem(r); !p.empty())
+                    problem = name + std::to_string(i + 1) + ": " + p;
             encodeStroke(w, r);
+        }
     }
+    if (!problem.empty())
+        throw ProjectError(path.string() + ": not written: " + problem +
+                           " (the previous snapshot is kept)");
     w.pod(crc(w.bytes.data(), w.bytes.size()));
+    return std::move(w.bytes);
+}
 
-    const std::filesystem::path tmp = path.string() + ".tmp";
-    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd < 0) throw ProjectError(tmp.string() + ": cannot create: " + std::strerror(errno));
-    try {
-        writeAllOrThrow(fd, w.bytes, tmp);
-        if (::fsync(fd) != 0) throw ProjectError(tmp.string() + ": fsync failed");
-    } catch (...) {
-        ::close(fd);
-        throw;
-    }
-    ::close(fd);
+// ------------------------------------------------------------------------------ journal scan
+
+struct JournalScan {
+    std::vector<JournalRecord> records;
+    std::vector<uint64_t> ends;  ///< byte offset just after each record
+    uint64_t headerBytes = 0;    ///< 8 when the file has a header, else 0
+    uint64_t validBytes = 0;
+    std::string warning;
+};
+
+JournalScan scanJournal(const fs::path& path) {
+    JournalScan out;
     std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) throw ProjectError(path.string() + ": cannot replace: " + ec.message());
-    const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : ".";
-    const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (dfd >= 0) {
-        ::fsync(dfd);
-        ::close(dfd);
+    if (!fs::exists(path, ec)) return out;
+    const std::string data = readAll(path);
+    if (data.size() < kMagicBytes) {
+        if (!data.empty())
+            out.warning = path.string() + ": shorter than its header; treated as empty";
+        return out;
+    }
+    checkMagic(data, kJournalMagic, path, "journal");
+    size_t pos = kMagicBytes;
+    out.headerBytes = out.validBytes = pos;
+    uint64_t expected = 0;
+    while (pos < data.size()) {
+        const size_t index = out.records.size() + 1;
+        // Framing damage: the record's own bytes cannot be trusted, so only the offset is named.
+        auto torn = [&](const std::string& why) {
+            out.warning = path.string() + ": byte " + std::to_string(pos) + ": record " +
+                          std::to_string(index) + " " + why + "; kept the " +
+                          std::to_string(out.records.size()) + " complete record(s) before it";
+        };
+        if (data.size() - pos < kFrameBytes) {
+            torn("is truncated");
+            break;
+        }
+        uint32_t mark, len, sum;
+        std::memcpy(&mark, data.data() + pos, 4);
+        std::memcpy(&len, data.data() + pos + 4, 4);
+        std::memcpy(&sum, data.data() + pos + 8, 4);
+        if (mark != kRecordMark || len > kMaxRecordBytes) {
+            torn("has a damaged header");
+            break;
+        }
+        if (data.size() - pos - kFrameBytes < len) {
+            torn("is truncated");
+            break;
+        }
+        if (crc(data.data() + pos + kFrameBytes, len) != sum) {
+            torn("fails its checksum");
+            break;
+        }
+        JournalRecord rec;
+        bool haveSequence = false;
+        std::string problem;
+        try {
+            Reader r(data, pos + kFrameBytes, pos + kFrameBytes + len);
+            rec.sequence = r.pod<uint64_t>();
+            haveSequence = true;
+            decodeRecordBody(r, rec);
+            if (rec.sequence == 0)
+                problem = "sequence 0 (sequence numbers start at 1)";
+            else if (expected != 0 && rec.sequence != expected)
+                problem = "out of order (expected sequence " + std::to_string(expected) + ")";
+        } catch (const DecodeError& e) {
+            problem = e.what();
+        }
+        if (!problem.empty()) {
+            out.warning = path.string() + ": record " + std::to_string(index) +
+                          (haveSequence ? " (sequence " + std::to_string(rec.sequence) + ")" : "") +
+                          ": " + problem + "; it and the rest were dropped";
+            break;
+        }
+        expected = rec.sequence + 1;
+        out.records.push_back(std::move(rec));
+        pos += kFrameBytes + len;
+        out.ends.push_back(pos);
+        out.validBytes = pos;
+    }
+    return out;
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------------------ journal
+
+JournalContents readJournal(const fs::path& path) {
+    JournalScan scan = scanJournal(path);
+    JournalContents out;
+    out.records = std::move(scan.records);
+    out.validBytes = scan.validBytes;
+    out.warning = std::move(scan.warning);
+    return out;
+}
+
+JournalWriter::JournalWriter(const fs::path& path, uint64_t validBytes) : mPath(path) {
+    mFd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (mFd < 0)
+        throw ProjectError(path.string() + ": cannot open for writing: " + errnoText(errno));
+    try {
+        struct stat st {};
+        if (::fstat(mFd, &st) != 0 || !S_ISREG(st.st_mode))
+            throw ProjectError(path.string() + ": not a regular file");
+        if (validBytes > uint64_t(st.st_size))
+            // Growing the file would put zeros where the next record must go.
+            throw ProjectError(path.string() + ": asked to continue at byte " +
+                               std::to_string(validBytes) + " of a " + std::to_string(st.st_size) +
+                               "-byte file (changed since read?)");
+        if (validBytes < kMagicBytes) {
+            if (::ftruncate(mFd, 0) != 0)
+                throw ProjectError(path.string() + ": cannot truncate: " + errnoText(errno));
+            writeAllOrThrow(mFd, journalHeader(), path);
+            if (::fdatasync(mFd) != 0)
+                throw ProjectError(path.string() + ": cannot flush: " + errnoText(errno));
+            syncFolder(folderOf(path));  // the new file's name must survive with its records
+        } else if (::ftruncate(mFd, off_t(validBytes)) != 0) {
+            throw ProjectError(path.string() + ": cannot truncate: " + errnoText(errno));
+        }
+        if (::lseek(mFd, 0, SEEK_END) < 0)
+            throw ProjectError(path.string() + ": cannot seek: " + errnoText(errno));
+    } catch (...) {
+        ::close(mFd);
+        mFd = -1;
+        throw;
     }
 }
 
-SnapshotContents readSnapshot(const std::filesystem::path& path) {
+JournalWriter::~JournalWriter() {
+    if (mFd >= 0) ::close(mFd);
+}
+
+void JournalWriter::append(const JournalRecord& rec) {
+    if (mFd < 0)
+        throw ProjectError(mPath.string() + ": the journal was closed by an earlier failure");
+    const std::string what = mPath.string() + ": record with sequence " +
+                             std::to_string(rec.sequence) + " not written: ";
+    if (std::string p = recordProblem(rec); !p.empty()) throw ProjectError(what + p);
+    if (mLastSequence != 0 && rec.sequence != mLastSequence + 1)
+        throw ProjectError(what + "it does not follow sequence " + std::to_string(mLastSequence));
+    const std::string payload = encodeRecord(rec);
+    if (payload.size() > kMaxRecordBytes)
+        throw ProjectError(what + "it would be " + std::to_string(payload.size()) +
+                           " bytes, more than a journal record may hold");
+    Writer frame;
+    frame.pod(kRecordMark);
+    frame.pod(uint32_t(payload.size()));
+    frame.pod(crc(payload.data(), payload.size()));
+    frame.bytes += payload;
+    const off_t start = ::lseek(mFd, 0, SEEK_CUR);
+    try {
+        writeAllOrThrow(mFd, frame.bytes, mPath);
+        if (::fdatasync(mFd) != 0)
+            throw ProjectError(mPath.string() + ": cannot flush: " + errnoText(errno));
+    } catch (...) {
+        // A partial record would hide every later one from readJournal: cut it off.
+        if (start >= 0 && ::ftruncate(mFd, start) == 0) ::lseek(mFd, start, SEEK_SET);
+        throw;
+    }
+    mLastSequence = rec.sequence;
+}
+
+void JournalWriter::reset() {
+    try {
+        writeFileAtomically(mPath, journalHeader(), true);
+    } catch (const FileWriteError& e) {
+        throw ProjectError(e.what());
+    }
+    const int fd = ::open(mPath.c_str(), O_WRONLY | O_NOFOLLOW | O_CLOEXEC);
+    const int err = errno;
+    if (mFd >= 0) ::close(mFd);
+    // Never left on the old file: it may now be journal.vjl.bak.
+    mFd = fd;
+    if (mFd < 0)
+        throw ProjectError(mPath.string() + ": cannot open the new journal: " + errnoText(err));
+    if (::lseek(mFd, 0, SEEK_END) < 0) {
+        const int e = errno;
+        ::close(mFd);
+        mFd = -1;
+        throw ProjectError(mPath.string() + ": cannot seek: " + errnoText(e));
+    }
+}
+
+// ------------------------------------------------------------------------------ snapshot
+
+void writeSnapshot(const fs::path& path, const std::string& configJson, uint64_t lastSequence,
+                   const Sculpture& sculpture, const History& history) {
+    const std::string bytes = encodeSnapshot(path, configJson, lastSequence, sculpture, history);
+    try {
+        writeFileAtomically(path, bytes, true);
+    } catch (const FileWriteError& e) {
+        throw ProjectError(e.what());
+    }
+}
+
+SnapshotContents readSnapshot(const fs::path& path) {
     const std::string data = readAll(path);
     const std::string file = path.string();
-    if (data.size() < sizeof kSnapshotMagic + 4 ||
-        std::memcmp(data.data(), kSnapshotMagic, sizeof kSnapshotMagic) != 0)
-        throw ProjectError(file + ": byte 0: not a vsculpt snapshot (bad magic or version)");
+    if (data.size() < kMagicBytes + 4)
+        throw ProjectError(file + ": byte 0: not a vsculpt snapshot (" +
+                           std::to_string(data.size()) + " bytes)");
+    checkMagic(data, kSnapshotMagic, path, "snapshot");
     uint32_t sum;
     std::memcpy(&sum, data.data() + data.size() - 4, 4);
     if (crc(data.data(), data.size() - 4) != sum)
         throw ProjectError(file + ": checksum mismatch: the snapshot is damaged (" +
                            std::to_string(data.size()) + " bytes)");
-    Reader r(data, sizeof kSnapshotMagic, data.size() - 4, file);
+    Reader r(data, kMagicBytes, data.size() - 4);
     SnapshotContents out;
-    out.lastSequence = r.pod<uint64_t>();
-    out.configJson = r.str();
-    const uint64_t n = r.pod<uint64_t>();
-    r.need(size_t(n) * 17);
-    for (uint64_t i = 0; i < n; ++i) {
-        SkeletonEntry e;
-        e.level = r.pod<uint8_t>();
-        if (e.level < 1 || e.level > kLevelCount) r.fail("bad skeleton level");
-        e.coord.x = r.pod<int32_t>();
-        e.coord.y = r.pod<int32_t>();
-        e.coord.z = r.pod<int32_t>();
-        e.weight = r.pod<float>();
-        out.skeletons.push_back(e);
+    std::string entry;  // what is being decoded, for the message
+    try {
+        out.lastSequence = r.pod<uint64_t>();
+        out.configJson = r.str();
+        const uint64_t n = r.pod<uint64_t>();
+        if (n > r.left() / kSkeletonBytes)
+            r.fail(std::to_string(n) + " skeletons, more than the file holds");
+        out.skeletons.reserve(size_t(n));
+        for (uint64_t i = 0; i < n; ++i) {
+            entry = "skeleton " + std::to_string(i + 1) + ": ";
+            SkeletonEntry e;
+            e.level = r.pod<uint8_t>();
+            e.coord.x = r.pod<int32_t>();
+            e.coord.y = r.pod<int32_t>();
+            e.coord.z = r.pod<int32_t>();
+            e.weight = r.pod<float>();
+            if (std::string p = levelProblem(e.level); !p.empty()) r.fail(p);
+            if (std::string p = coordProblem(e.coord); !p.empty()) r.fail(p);
+            if (std::string p = weightProblem(e.weight); !p.empty()) r.fail("weight " + p);
+            out.skeletons.push_back(e);
+        }
+        const std::pair<const char*, std::vector<StrokeRecord>*> stacks[] = {
+            {"undo step ", &out.done}, {"redo step ", &out.undone}};
+        for (const auto& [name, stack] : stacks) {
+            entry = std::string(name) + "count: ";
+            const uint32_t m = r.pod<uint32_t>();
+            if (m > r.left() / kMinStrokeBytes)
+                r.fail(std::to_string(m) + " steps, more than the file holds");
+            for (uint32_t i = 0; i < m; ++i) {
+                entry = name + std::to_string(i + 1) + ": ";
+                stack->push_back(decodeStroke(r));
+            }
+        }
+        entry.clear();
+        if (r.left() != 0) r.fail("trailing bytes");
+    } catch (const DecodeError& e) {
+        throw ProjectError(file + ": " + entry + e.what() + " (byte " + std::to_string(e.pos) +
+                           ")");
     }
-    for (auto* stack : {&out.done, &out.undone}) {
-        const uint32_t m = r.pod<uint32_t>();
-        for (uint32_t i = 0; i < m; ++i)
-            stack->push_back(decodeStroke(r));
-    }
-    if (r.pos() != data.size() - 4) r.fail("trailing bytes");
     return out;
+}
+
+// ------------------------------------------------------------------------------ projects
+
+namespace {
+
+/// Appends the records of one journal file that continue the chain at `last`. Records up to
+/// `last` are already in: skipped. `isCurrent`: journal.vjl, which the caller will append to.
+void takeRecords(RecoveredProject& out, const fs::path& path, bool isCurrent, uint64_t& last) {
+    JournalScan scan;
+    try {
+        scan = scanJournal(path);
+    } catch (const ProjectError& e) {
+        if (isCurrent) throw;  // refused rather than later overwritten by the writer
+        out.warnings.push_back(std::string(e.what()) + "; its records were not used");
+        return;
+    }
+    if (isCurrent) out.journalValidBytes = scan.headerBytes;
+    for (size_t i = 0; i < scan.records.size(); ++i) {
+        JournalRecord& rec = scan.records[i];
+        if (rec.sequence > last + 1) {
+            out.warnings.push_back(path.string() + ": record " + std::to_string(i + 1) +
+                                   " (sequence " + std::to_string(rec.sequence) +
+                                   "): expected sequence " + std::to_string(last + 1) +
+                                   " next; it and the rest were dropped");
+            scan.warning.clear();  // any damage lies among what was dropped
+            break;
+        }
+        if (rec.sequence == last + 1) {
+            last = rec.sequence;
+            out.records.push_back(std::move(rec));
+        }
+        if (isCurrent) out.journalValidBytes = scan.ends[i];
+    }
+    if (!scan.warning.empty()) out.warnings.push_back(std::move(scan.warning));
+}
+
+bool cannotLink(int err) {
+    return err == EPERM || err == EOPNOTSUPP || err == EXDEV || err == EMLINK || err == ENOSYS;
+}
+
+/// `to` becomes another name of `from` (or, where links are impossible, an atomic copy).
+void keepAs(const fs::path& from, const fs::path& to) {
+    try {
+        replaceWithHardLink(from, to, false);
+    } catch (const FileWriteError& e) {
+        if (!cannotLink(e.code())) throw;
+        writeFileAtomically(to, readAll(from), false);
+    }
+}
+
+}  // namespace
+
+RecoveredProject readProject(const fs::path& dir) {
+    RecoveredProject out;
+    std::error_code ec;
+    const fs::file_status st = fs::status(dir, ec);
+    if (!fs::exists(st)) return out;
+    if (!fs::is_directory(st)) throw ProjectError(dir.string() + ": not a project folder");
+
+    const fs::path snap = snapshotPath(dir), backup = snapshotBackupPath(dir);
+    std::string primaryProblem;
+    if (fs::exists(snap, ec)) {
+        try {
+            out.snapshot = readSnapshot(snap);
+        } catch (const ProjectError& e) {
+            primaryProblem = e.what();
+        }
+    } else if (!fs::exists(backup, ec)) {
+        uint64_t last = 0;  // never saved: the journal must start at sequence 1
+        takeRecords(out, journalPath(dir), true, last);
+        return out;
+    } else {
+        primaryProblem = snap.string() + ": missing";
+    }
+    if (out.snapshot) {
+        uint64_t last = out.snapshot->lastSequence;
+        takeRecords(out, journalPath(dir), true, last);
+        return out;
+    }
+
+    if (!fs::exists(backup, ec))
+        throw ProjectError(primaryProblem + "; and there is no backup (" + backup.string() + ")");
+    try {
+        out.snapshot = readSnapshot(backup);
+    } catch (const ProjectError& e) {
+        throw ProjectError(primaryProblem + "; the backup is unusable too: " + e.what());
+    }
+    out.fromBackup = true;
+    out.warnings.push_back(primaryProblem + "; recovered from " + backup.string() + " and " +
+                           journalBackupPath(dir).string() + " then " + journalPath(dir).string());
+    uint64_t last = out.snapshot->lastSequence;
+    takeRecords(out, journalBackupPath(dir), false, last);
+    takeRecords(out, journalPath(dir), true, last);
+    return out;
+}
+
+void saveProject(const fs::path& dir, const std::string& configJson, uint64_t lastSequence,
+                 const Sculpture& sculpture, const History& history, JournalWriter& journal) {
+    const fs::path snap = snapshotPath(dir), journalFile = journalPath(dir);
+    if (journal.path() != journalFile)
+        throw std::invalid_argument("saveProject: the journal writer writes " +
+                                    journal.path().string() + ", not " + journalFile.string());
+    // Every check before the first file changes.
+    const std::string bytes = encodeSnapshot(snap, configJson, lastSequence, sculpture, history);
+    std::error_code ec;
+    bool currentReadable = false;
+    if (fs::exists(snap, ec)) {
+        try {
+            readSnapshot(snap);
+            currentReadable = true;
+        } catch (const ProjectError&) {
+            // A damaged snapshot must not become the backup: the backup is what rescues it.
+        }
+    }
+    try {
+        if (currentReadable) {
+            // Backups first, and on disk before the snapshot changes: at every moment the
+            // folder holds either the old pair or the old pair plus its backups.
+            keepAs(snap, snapshotBackupPath(dir));
+            if (fs::exists(journalFile, ec))
+                keepAs(journalFile, journalBackupPath(dir));
+            else
+                writeFileAtomically(journalBackupPath(dir), journalHeader(), false);
+            syncFolder(dir);
+            writeFileAtomically(snap, bytes, true);
+        } else {
+            // The new snapshot is also its own backup, so both journals can start empty.
+            writeFileAtomically(snap, bytes, true);
+            writeFileAtomically(snapshotBackupPath(dir), bytes, false);
+            writeFileAtomically(journalBackupPath(dir), journalHeader(), false);
+            syncFolder(dir);
+        }
+    } catch (const FileWriteError& e) {
+        throw ProjectError(e.what());
+    }
+    journal.reset();
+}
+
+void restoreSnapshot(const SnapshotContents& snapshot, Sculpture& sculpture, History& history) {
+    for (const SkeletonEntry& e : snapshot.skeletons)
+        sculpture.store().set(e.level, e.coord, e.weight);
+    history.restore(snapshot.done, snapshot.undone);
+}
+
+Aabb applyJournalRecord(Sculpture& sculpture, History& history, const JournalRecord& r) {
+    switch (r.op) {
+        case JournalOp::Stroke: {
+            StrokeRecord rec;
+            rec.op = r.tool;
+            rec.level = r.level;
+            rec.samples = r.samples;
+            const EditResult e = applyStroke(sculpture, r.tool, r.level, r.samples, &rec.changes);
+            history.push(std::move(rec));
+            return e.changedRegion;
+        }
+        case JournalOp::Solid: {
+            SolidPlacement placed = replaySolid(sculpture, r.solidLevel, r.changes);
+            StrokeRecord rec;
+            rec.solid = true;
+            rec.level = placed.level;
+            rec.changes = std::move(placed.changes);
+            history.push(std::move(rec));
+            return placed.edit.changedRegion;
+        }
+        case JournalOp::Undo:
+            return history.undo(sculpture);
+        case JournalOp::Redo:
+            return history.redo(sculpture);
+    }
+    throw std::invalid_argument("journal record " + std::to_string(r.sequence) +
+                                ": unknown operation");
 }
 
 }  // namespace vsculpt::core

@@ -29,8 +29,6 @@ struct Brick {
 };
 
 inline constexpr int kBrickDim = 4;
-/// Lattice coordinates must stay within +-2^22 so brick keys pack into 64 bits.
-inline constexpr int32_t kMaxLatticeCoord = (1 << 22) - 1;
 
 inline int brickBit(int x, int y, int z) {
     return (x & 3) * 16 + (y & 3) * 4 + (z & 3);

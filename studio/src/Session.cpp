@@ -78,9 +78,7 @@ std::unique_ptr<Session> Session::openProject(const std::filesystem::path& dir,
         }
         takeMachineSettings(stored, cfg);
         s.reset(new Session(stored, true));
-        for (const SkeletonEntry& e : c.skeletons)
-            s->mSculpture->store().set(e.level, e.coord, e.weight);
-        s->mHistory.restore(std::move(c.done), std::move(c.undone));
+        restoreSnapshot(c, *s->mSculpture, s->mHistory);
         lastSeq = c.lastSequence;
     } else if (readOnly) {
         throw ProjectError(dir.string() + ": not a vsculpt project (no " +
@@ -88,7 +86,10 @@ std::unique_ptr<Session> Session::openProject(const std::filesystem::path& dir,
     } else {
         s.reset(new Session(cfg, true));
         // A new project starts with a snapshot, so the config travels with it.
+        // and its backup is the same: a damaged first snapshot never loses the project.
         writeSnapshot(snapshotPath(dir), projectConfigJson(s->mConfig), 0, *s->mSculpture,
+                      s->mHistory);
+        writeSnapshot(snapshotBackupPath(dir), projectConfigJson(s->mConfig), 0, *s->mSculpture,
                       s->mHistory);
     }
     s->mProjectDir = dir;
@@ -96,7 +97,7 @@ std::unique_ptr<Session> Session::openProject(const std::filesystem::path& dir,
     s->mSequence = lastSeq;
     for (const JournalRecord& r : found.records) {
         if (r.sequence <= s->mSequence) continue;  // already in the snapshot
-        s->applyJournalRecord(r);
+        core::applyJournalRecord(*s->mSculpture, s->mHistory, r);
         s->mSequence = r.sequence;
         ++s->mRecovered;
     }
@@ -109,35 +110,6 @@ std::unique_ptr<Session> Session::openProject(const std::filesystem::path& dir,
     s->mLock = std::move(lock);
     s->rebuildView();
     return s;
-}
-
-void Session::applyJournalRecord(const JournalRecord& r) {
-    switch (r.op) {
-        case JournalOp::Stroke: {
-            StrokeRecord rec;
-            rec.op = r.tool;
-            rec.level = r.level;
-            rec.samples = r.samples;
-            applyStroke(*mSculpture, r.tool, r.level, r.samples, &rec.changes);
-            mHistory.push(std::move(rec));
-            break;
-        }
-        case JournalOp::Solid: {
-            SolidPlacement placed = replaySolid(*mSculpture, r.solidLevel, r.changes);
-            StrokeRecord rec;
-            rec.solid = true;
-            rec.level = placed.level;
-            rec.changes = std::move(placed.changes);
-            mHistory.push(std::move(rec));
-            break;
-        }
-        case JournalOp::Undo:
-            mHistory.undo(*mSculpture);
-            break;
-        case JournalOp::Redo:
-            mHistory.redo(*mSculpture);
-            break;
-    }
 }
 
 void Session::rebuildView() {

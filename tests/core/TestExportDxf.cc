@@ -46,6 +46,16 @@ struct DxfFixture : ::testing::Test {
     void TearDown() override { fs::remove_all(dir); }
 };
 
+// Temporary files writeFileAtomically left in `dir` (it must leave none).
+size_t leftoverTemporaryFiles(const fs::path& dir) {
+    size_t n = 0;
+    for (const auto& e : fs::directory_iterator(dir)) {
+        const std::string name = e.path().filename().string();
+        n += name.front() == '.' && name.ends_with(".tmp");
+    }
+    return n;
+}
+
 // Runs a python3 script and returns its output; status is 77 (the script's import guard) or
 // 127 (the shell) when python3 or ezdxf is missing.
 std::string runPython(const fs::path& dir, const std::string& script, int& status) {
@@ -89,7 +99,7 @@ TEST_F(DxfFixture, EzdxfReadsFacesPolylinesLayersAndCoordinates) {
     options.curveLayers = {"outline"};  // the second curve falls back to curveLayer
     options.closedCurves = {false, true};
     writeDxf(path, surfaces, curves, options);
-    EXPECT_FALSE(fs::exists(path.string() + ".part"));
+    EXPECT_EQ(leftoverTemporaryFiles(dir), 0u);
 
     int status = 0;
     const std::string out = runPython(dir, R"(
@@ -228,7 +238,7 @@ TEST_F(DxfFixture, BadInputThrowsNamingTheProblemAndLeavesNoFile) {
             EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
         }
         EXPECT_FALSE(fs::exists(path));
-        EXPECT_FALSE(fs::exists(path.string() + ".part"));
+        EXPECT_EQ(leftoverTemporaryFiles(dir), 0u);
     };
     const std::vector<Mesh> bad{broken};
     expectThrow(bad, {}, {}, "surface 0: triangle index 7 is out of range");

@@ -9,8 +9,8 @@
 /// OCS) decides the entity type. A 3DFACE has four corners; a triangle repeats its third.
 ///
 /// Units: millimetres ($INSUNITS = 4), coordinates written with 17 significant digits so a
-/// reader gets the doubles back exactly. The file is written to `path + ".part"` and renamed
-/// over `path` once complete, so a failed export never leaves a half-written file.
+/// reader gets the doubles back exactly. The file is rendered in memory and written with
+/// writeFileAtomically (not durable), so a failed export never leaves a half-written file.
 #pragma once
 
 #include "vsculpt/core/ExportMesh.h"

@@ -4,9 +4,11 @@
 /// normals), glTF 2.0 binary (.glb, via tinygltf), DXF (3DFACE entities, for CAD) and an
 /// OpenVDB level set (.vdb, via OpenVDB's meshToLevelSet).
 ///
-/// Files are written to a temporary name and renamed into place, so a failed export never
-/// leaves a half-written file where a good one was. Units: millimetres (glTF's metres are
-/// not applied: the values are mm, stated in the asset's extras).
+/// Each file is rendered in memory, then written with writeFileAtomically (not durable), so a
+/// failed export never leaves a half-written file where a good one was, no library opens the
+/// output path itself, and a symlink at the output path is replaced, not written through.
+/// Units: millimetres (in .glb the values are mm under a node that scales them to glTF's
+/// metres).
 #pragma once
 
 #include "vsculpt/core/Mesh.h"
@@ -32,7 +34,9 @@ struct ExportOptions {
 const std::vector<std::string>& exportExtensions();
 
 /// Chooses the format from the file extension (case-insensitive). Throws ExportError naming
-/// the path for an unknown extension, an empty mesh or a write failure.
+/// the path for an unknown extension, an empty mesh or a write failure (with the OS reason).
+/// To fail early, before a long session whose result goes to `path`: ensureWritable(path)
+/// (WriteFileAtomically.h).
 void exportMesh(const Mesh& mesh, const std::filesystem::path& path,
                 const ExportOptions& options = {});
 

@@ -20,6 +20,9 @@
 
 namespace vsculpt::core {
 
+/// Lattice coordinates must stay within +-this so the storage's brick keys pack into 64 bits.
+inline constexpr int32_t kMaxLatticeCoord = (1 << 22) - 1;
+
 struct SkeletonEntry {
     int level = 0;  ///< 1..7
     LatticeCoord coord;

@@ -131,7 +131,6 @@ class Session {
     Session(const core::SculptConfig& cfg, bool);
     void rebuildView();
     void journal(const core::JournalRecord& r);
-    void applyJournalRecord(const core::JournalRecord& r);
 
     core::SculptConfig mConfig;
     std::unique_ptr<core::Sculpture> mSculpture;

@@ -1,0 +1,1075 @@
+// SPDX-License-Identifier: MIT
+// Project files made safe: atomic writes that never follow planted symlinks and clean up
+// after themselves, the one-writer lock (in one process and across fork()), snapshot backups
+// and the read-only recovery, values checked on load (each damaged value written with a
+// correct checksum, so only the check can catch it), and redo surviving a reopen.
+#include "vsculpt/core/ExportMesh.h"
+#include "vsculpt/core/Project.h"
+#include "vsculpt/core/ProjectLock.h"
+#include "vsculpt/core/WriteFileAtomically.h"
+
+#include "TestHelpers.h"
+
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <tuple>
+#include <vector>
+
+namespace vsculpt::core {
+namespace {
+
+namespace fs = std::filesystem;
+using test::linePath;
+
+// ------------------------------------------------------------------------------ helpers
+
+struct TempDir {
+    fs::path path;
+    explicit TempDir(const std::string& suffix = "") {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        path = fs::temp_directory_path() / ("vsculpt_project_" + std::to_string(::getpid()) + "_" +
+                                            info->test_suite_name() + "_" + info->name() + suffix);
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::permissions(path, fs::perms::owner_all, fs::perm_options::add, ec);
+        fs::remove_all(path, ec);
+    }
+};
+
+std::string readFile(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+void writeFile(const fs::path& p, const std::string& bytes) {
+    std::ofstream out(p, std::ios::binary | std::ios::trunc);
+    out << bytes;
+}
+
+std::vector<std::string> listDir(const fs::path& dir) {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir))
+        names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+// CRC-32 (IEEE, reflected, as zlib computes it), written here so the tests do not share the
+// implementation they check.
+uint32_t crc32Of(const char* p, size_t n) {
+    uint32_t c = 0xFFFFFFFFu;
+    for (size_t i = 0; i < n; ++i) {
+        c ^= uint8_t(p[i]);
+        for (int k = 0; k < 8; ++k)
+            c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+    }
+    return ~c;
+}
+
+template <typename T>
+void put(std::string& s, size_t at, T v) {
+    ASSERT_LE(at + sizeof v, s.size());
+    std::memcpy(s.data() + at, &v, sizeof v);
+}
+
+template <typename T>
+void append(std::string& s, T v) {
+    s.append(reinterpret_cast<const char*>(&v), sizeof v);
+}
+
+// Journal frames: "VSJRNL01", then per record u32 mark, u32 length, u32 CRC, payload.
+std::vector<std::string> journalPayloads(const std::string& file) {
+    std::vector<std::string> out;
+    size_t pos = 8;
+    while (pos + 12 <= file.size()) {
+        uint32_t len;
+        std::memcpy(&len, file.data() + pos + 4, 4);
+        out.push_back(file.substr(pos + 12, len));
+        pos += 12 + len;
+    }
+    return out;
+}
+
+std::string journalFile(const std::vector<std::string>& payloads) {
+    std::string f = "VSJRNL01";
+    for (const std::string& p : payloads) {
+        append(f, uint32_t(0x5245434Bu));
+        append(f, uint32_t(p.size()));
+        append(f, crc32Of(p.data(), p.size()));
+        f += p;
+    }
+    return f;
+}
+
+/// Byte offset just after the first `n` records.
+uint64_t journalEnd(const std::vector<std::string>& payloads, size_t n) {
+    uint64_t end = 8;
+    for (size_t i = 0; i < n; ++i)
+        end += 12 + payloads[i].size();
+    return end;
+}
+
+void fixSnapshotChecksum(std::string& s) {
+    const uint32_t sum = crc32Of(s.data(), s.size() - 4);
+    std::memcpy(s.data() + s.size() - 4, &sum, 4);
+}
+
+using Entry = std::tuple<int, int32_t, int32_t, int32_t, float>;
+std::vector<Entry> entries(const Sculpture& s) {
+    std::vector<Entry> out;
+    s.store().forEach([&](const SkeletonEntry& e) {
+        out.emplace_back(e.level, e.coord.x, e.coord.y, e.coord.z, e.weight);
+    });
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+SculptConfig config() {
+    SculptConfig cfg;
+    cfg.sphereRadiusMm = 20;
+    cfg.placement = PlacementMode::Free;
+    return cfg;
+}
+
+JournalRecord strokeRecord(uint64_t seq, ToolOp tool, int level, const Vec3& a, const Vec3& b) {
+    JournalRecord r;
+    r.sequence = seq;
+    r.op = JournalOp::Stroke;
+    r.tool = tool;
+    r.level = level;
+    r.samples = linePath(a, b, 3.0);
+    return r;
+}
+
+JournalRecord plainRecord(uint64_t seq, JournalOp op) {
+    JournalRecord r;
+    r.sequence = seq;
+    r.op = op;
+    return r;
+}
+
+/// A sculpting session as the app runs one: each edit applied, then journaled.
+struct Sculptor {
+    Sculpture sculpture{config()};
+    History history;
+    uint64_t sequence = 0;
+
+    void edit(JournalRecord r, JournalWriter& journal) {
+        r.sequence = ++sequence;
+        applyJournalRecord(sculpture, history, r);
+        journal.append(r);
+    }
+    void stroke(JournalWriter& j, ToolOp op, int level, const Vec3& a, const Vec3& b) {
+        edit(strokeRecord(0, op, level, a, b), j);
+    }
+    void undo(JournalWriter& j) { edit(plainRecord(0, JournalOp::Undo), j); }
+    void redo(JournalWriter& j) { edit(plainRecord(0, JournalOp::Redo), j); }
+    void save(const fs::path& dir, JournalWriter& j) {
+        saveProject(dir, configToJson(sculpture.config()), sequence, sculpture, history, j);
+    }
+};
+
+/// Opens a project as the app would: the snapshot's config, its skeletons and history, then
+/// every recovered record replayed.
+struct Reopened {
+    RecoveredProject project;
+    std::unique_ptr<Sculpture> sculpture;
+    History history;
+    explicit Reopened(const fs::path& dir) : project(readProject(dir)) {
+        const SculptConfig cfg = project.snapshot
+                                     ? parseConfig(project.snapshot->configJson, "stored config")
+                                     : config();
+        sculpture = std::make_unique<Sculpture>(cfg);
+        if (project.snapshot) restoreSnapshot(*project.snapshot, *sculpture, history);
+        for (const JournalRecord& r : project.records)
+            applyJournalRecord(*sculpture, history, r);
+    }
+};
+
+std::string allWarnings(const RecoveredProject& p) {
+    std::string s;
+    for (const std::string& w : p.warnings)
+        s += w + "\n";
+    return s;
+}
+
+// ------------------------------------------------------------------------------ atomic writes
+
+TEST(WriteFileAtomically, ReplacesTheContentsAndLeavesOnlyTheFile) {
+    TempDir dir;
+    const fs::path target = dir.path / "out.txt";
+    writeFileAtomically(target, "first", false);
+    EXPECT_EQ(readFile(target), "first");
+    writeFileAtomically(target, std::string(100000, 'x'), true);
+    EXPECT_EQ(readFile(target), std::string(100000, 'x'));
+    writeFileAtomically(target, "", true);
+    EXPECT_EQ(readFile(target), "");
+    EXPECT_EQ(listDir(dir.path), std::vector<std::string>{"out.txt"});
+}
+
+TEST(WriteFileAtomically, NeverOpensOrFollowsWhatIsPlantedAtATemporaryName) {
+    TempDir dir;
+    const fs::path target = dir.path / "out.txt", victim = dir.path / "victim.txt";
+    writeFile(victim, "precious");
+    writeFile(target, "old");
+    // The next three names this process will try: a symlink to the victim, a regular file and
+    // a dangling symlink. Following or reusing any of them would be the bug.
+    detail::setNextTemporaryNumber(4242);
+    const fs::path t0 = dir.path / detail::temporaryName("out.txt", 4242);
+    const fs::path t1 = dir.path / detail::temporaryName("out.txt", 4243);
+    const fs::path t2 = dir.path / detail::temporaryName("out.txt", 4244);
+    fs::create_symlink(victim, t0);
+    writeFile(t1, "someone else's");
+    fs::create_symlink(dir.path / "nowhere", t2);
+
+    writeFileAtomically(target, "new", true);
+    EXPECT_EQ(readFile(target), "new");
+    EXPECT_EQ(readFile(victim), "precious");
+    EXPECT_TRUE(fs::is_symlink(t0));
+    EXPECT_EQ(readFile(t1), "someone else's");
+    EXPECT_TRUE(fs::is_symlink(t2));
+    EXPECT_FALSE(fs::exists(dir.path / "nowhere"));
+    EXPECT_FALSE(fs::exists(dir.path / detail::temporaryName("out.txt", 4245)));
+    EXPECT_EQ(listDir(dir.path).size(), 5u);  // target, victim, the three planted
+}
+
+TEST(WriteFileAtomically, ASymlinkAtTheTargetIsReplacedNotWrittenThrough) {
+    TempDir dir;
+    const fs::path target = dir.path / "out.txt", victim = dir.path / "victim.txt";
+    writeFile(victim, "precious");
+    fs::create_symlink(victim, target);
+    writeFileAtomically(target, "new", false);
+    EXPECT_FALSE(fs::is_symlink(target));
+    EXPECT_EQ(readFile(target), "new");
+    EXPECT_EQ(readFile(victim), "precious");
+}
+
+TEST(WriteFileAtomically, FailuresNameTheRealPathAndTheReasonAndLeaveNothingBehind) {
+    TempDir dir;
+    const fs::path missing = dir.path / "no-such-folder" / "out.txt";
+    try {
+        writeFileAtomically(missing, "x", true);
+        FAIL() << "no error";
+    } catch (const FileWriteError& e) {
+        EXPECT_EQ(e.code(), ENOENT);
+        EXPECT_NE(std::string(e.what()).find(missing.string() + ": "), std::string::npos)
+            << e.what();
+        EXPECT_NE(std::string(e.what()).find(std::strerror(ENOENT)), std::string::npos) << e.what();
+    }
+    // Renaming a file over a folder fails after the temporary file was written.
+    fs::create_directory(dir.path / "afolder");
+    try {
+        writeFileAtomically(dir.path / "afolder", "x", false);
+        FAIL() << "no error";
+    } catch (const FileWriteError& e) {
+        EXPECT_NE(std::string(e.what()).find((dir.path / "afolder").string() + ": cannot replace"),
+                  std::string::npos)
+            << e.what();
+        EXPECT_EQ(std::string(e.what()).find(".tmp"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(listDir(dir.path), std::vector<std::string>{"afolder"});
+}
+
+TEST(WriteFileAtomically, AWriteThatRunsOutOfSpaceKeepsTheOldFile) {
+    TempDir dir;
+    const fs::path target = dir.path / "out.bin";
+    writeFile(target, "old contents");
+    // A file size limit makes write() fail part-way (EFBIG) as a full disk would.
+    struct sigaction ignore {
+    }, previous{};
+    ignore.sa_handler = SIG_IGN;
+    ASSERT_EQ(::sigaction(SIGXFSZ, &ignore, &previous), 0);
+    rlimit old{};
+    ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
+    rlimit small = old;
+    small.rlim_cur = 4096;
+    ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
+    std::string message;
+    int code = 0;
+    try {
+        writeFileAtomically(target, std::string(100000, 'y'), true);
+    } catch (const FileWriteError& e) {
+        message = e.what();
+        code = e.code();
+    }
+    ::setrlimit(RLIMIT_FSIZE, &old);
+    ::sigaction(SIGXFSZ, &previous, nullptr);
+    EXPECT_EQ(code, EFBIG) << message;
+    EXPECT_NE(message.find(target.string() + ": cannot write: " + std::strerror(EFBIG)),
+              std::string::npos)
+        << message;
+    EXPECT_EQ(readFile(target), "old contents");
+    EXPECT_EQ(listDir(dir.path), std::vector<std::string>{"out.bin"});
+}
+
+TEST(WriteFileAtomically, EnsureWritableChecksTheFolderAndCreatesNothing) {
+    TempDir dir;
+    EXPECT_NO_THROW(ensureWritable(dir.path / "later.glb"));
+    EXPECT_TRUE(listDir(dir.path).empty());
+    auto expectError = [](const fs::path& p, int code) {
+        try {
+            ensureWritable(p);
+            ADD_FAILURE() << p << ": no error";
+        } catch (const FileWriteError& e) {
+            EXPECT_EQ(e.code(), code) << e.what();
+            EXPECT_EQ(std::string(e.what()).rfind(p.string() + ": ", 0), 0u) << e.what();
+            EXPECT_NE(std::string(e.what()).find(std::strerror(code)), std::string::npos)
+                << e.what();
+        }
+    };
+    expectError(dir.path / "missing" / "out.glb", ENOENT);
+    writeFile(dir.path / "file", "");
+    expectError(dir.path / "file" / "out.glb", ENOTDIR);
+    fs::create_directory(dir.path / "sub");
+    expectError(dir.path / "sub", EISDIR);
+    if (::geteuid() != 0) {  // root may write anywhere
+        fs::permissions(dir.path / "sub", fs::perms::owner_read | fs::perms::owner_exec);
+        expectError(dir.path / "sub" / "out.glb", EACCES);
+    }
+}
+
+TEST(WriteFileAtomically, ExportsLeaveNoTemporaryFilesAndReplaceASymlink) {
+    TempDir dir;
+    Mesh m;
+    m.positions = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {0, 0, 10}};
+    m.indices = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
+    std::vector<std::string> expected;
+    for (const std::string& ext : exportExtensions()) {
+        const fs::path p = dir.path / ("mesh" + ext);
+        exportMesh(m, p);
+        EXPECT_GT(fs::file_size(p), 0u) << p;
+        expected.push_back(p.filename().string());
+    }
+    std::sort(expected.begin(), expected.end());
+    EXPECT_EQ(listDir(dir.path), expected);
+    // GLB header: magic, version 2, total length.
+    const std::string glb = readFile(dir.path / "mesh.glb");
+    ASSERT_GE(glb.size(), 12u);
+    EXPECT_EQ(glb.substr(0, 4), "glTF");
+    uint32_t version, length;
+    std::memcpy(&version, glb.data() + 4, 4);
+    std::memcpy(&length, glb.data() + 8, 4);
+    EXPECT_EQ(version, 2u);
+    EXPECT_EQ(length, glb.size());
+    // OpenVDB files start with the magic number 0x56444220.
+    const std::string vdb = readFile(dir.path / "mesh.vdb");
+    ASSERT_GE(vdb.size(), 8u);
+    int64_t magic;
+    std::memcpy(&magic, vdb.data(), 8);
+    EXPECT_EQ(magic, 0x56444220);
+
+    const fs::path victim = dir.path / "victim.txt", link = dir.path / "link.stl";
+    writeFile(victim, "precious");
+    fs::create_symlink(victim, link);
+    exportMesh(m, link);
+    EXPECT_EQ(readFile(victim), "precious");
+    EXPECT_FALSE(fs::is_symlink(link));
+
+    const fs::path bad = dir.path / "missing" / "mesh.obj";
+    try {
+        exportMesh(m, bad);
+        FAIL() << "no error";
+    } catch (const ExportError& e) {
+        EXPECT_NE(std::string(e.what()).find(bad.string()), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(std::strerror(ENOENT)), std::string::npos) << e.what();
+    }
+}
+
+// ------------------------------------------------------------------------------ lock
+
+std::string conflictMessage(const fs::path& dir, pid_t pid) {
+    return dir.string() + ": the project is open in another vsculpt (pid " + std::to_string(pid) +
+           "); close it first";
+}
+
+TEST(ProjectLock, TwoLocksInOneProcessConflict) {
+    TempDir dir;
+    {
+        ProjectLock first(dir.path);
+        EXPECT_TRUE(first.held());
+        EXPECT_EQ(readFile(lockPath(dir.path)), std::to_string(::getpid()) + "\n");
+        try {
+            ProjectLock second(dir.path);
+            FAIL() << "second lock taken";
+        } catch (const ProjectError& e) {
+            EXPECT_EQ(std::string(e.what()), conflictMessage(dir.path, ::getpid()));
+        }
+        EXPECT_THROW(ProjectLock(dir.path, ProjectLock::Mode::ReadOnly), ProjectError);
+        ProjectLock moved = std::move(first);
+        EXPECT_THROW(ProjectLock{dir.path}, ProjectError);
+    }
+    // Released, and the pid cleared: a later conflict never names a gone process.
+    EXPECT_EQ(readFile(lockPath(dir.path)), "");
+    ProjectLock again(dir.path);
+    EXPECT_TRUE(again.held());
+}
+
+TEST(ProjectLock, ReadersShareAndExcludeAWriter) {
+    TempDir dir;
+    ProjectLock a(dir.path, ProjectLock::Mode::ReadOnly), b(dir.path, ProjectLock::Mode::ReadOnly);
+    EXPECT_TRUE(a.held());
+    EXPECT_TRUE(b.held());
+    try {
+        ProjectLock writer(dir.path);
+        FAIL() << "writer locked a project being read";
+    } catch (const ProjectError& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  dir.path.string() +
+                      ": the project is open read-only in another vsculpt; close it first");
+    }
+}
+
+TEST(ProjectLock, AnotherProcessHoldingTheLockIsRefusedUntilItDies) {
+    TempDir dir;
+    int ready[2], release[2];
+    ASSERT_EQ(::pipe(ready), 0);
+    ASSERT_EQ(::pipe(release), 0);
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        int status = 0;
+        try {
+            ProjectLock lock(dir.path);
+            char c = 'r';
+            if (::write(ready[1], &c, 1) != 1) status = 3;
+            if (::read(release[0], &c, 1) != 1) status = 4;
+        } catch (...) {
+            status = 2;
+        }
+        ::_exit(status);
+    }
+    char c;
+    ASSERT_EQ(::read(ready[0], &c, 1), 1);
+    try {
+        ProjectLock lock(dir.path);
+        ADD_FAILURE() << "locked a project another process holds";
+    } catch (const ProjectError& e) {
+        EXPECT_EQ(std::string(e.what()), conflictMessage(dir.path, child));
+    }
+    try {
+        ProjectLock lock(dir.path, ProjectLock::Mode::ReadOnly);
+        ADD_FAILURE() << "read-locked a project another process writes";
+    } catch (const ProjectError& e) {
+        EXPECT_EQ(std::string(e.what()), conflictMessage(dir.path, child));
+    }
+    // kill -9: the kernel releases the lock with the process, no stale lock is left.
+    ::kill(child, SIGKILL);
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    EXPECT_TRUE(WIFSIGNALED(status));
+    for (int fd : {ready[0], ready[1], release[0], release[1]})
+        ::close(fd);
+    ProjectLock lock(dir.path);
+    EXPECT_TRUE(lock.held());
+}
+
+TEST(ProjectLock, ASymlinkAtTheLockIsRefused) {
+    TempDir dir;
+    const fs::path victim = dir.path / "victim.txt";
+    writeFile(victim, "precious");
+    fs::create_symlink(victim, lockPath(dir.path));
+    try {
+        ProjectLock lock(dir.path);
+        FAIL() << "followed the symlink";
+    } catch (const ProjectError& e) {
+        EXPECT_NE(std::string(e.what()).find(lockPath(dir.path).string() + ": "), std::string::npos)
+            << e.what();
+        EXPECT_NE(std::string(e.what()).find("symbolic link"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(readFile(victim), "precious");
+}
+
+TEST(ProjectLock, AFolderThatCannotBeWrittenIsReadWithoutALock) {
+    TempDir dir;
+    fs::create_directory(dir.path / "ro");
+    // In a child, as an unprivileged user when running as root (root may write anywhere).
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        if (::geteuid() == 0) {
+            if (::setgid(65534) != 0 || ::setuid(65534) != 0) ::_exit(10);
+        } else {
+            ::chmod((dir.path / "ro").c_str(), 0555);
+        }
+        int status = 0;
+        try {
+            ProjectLock reader(dir.path / "ro", ProjectLock::Mode::ReadOnly);
+            if (reader.held()) status = 2;
+        } catch (...) {
+            status = 3;
+        }
+        if (::access(lockPath(dir.path / "ro").c_str(), F_OK) == 0) status = 4;
+        try {
+            ProjectLock writer(dir.path / "ro");
+            status = 5;
+        } catch (const ProjectError& e) {
+            if (std::string(e.what()).find(std::strerror(EACCES)) == std::string::npos) status = 6;
+        }
+        ::_exit(status);
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 0) << "2: locked, 3: threw, 4: created the lock file, "
+                                         "5: writer locked, 6: writer's message, 10: setuid";
+}
+
+// ------------------------------------------------------------------------------ save & recover
+
+TEST(Project, SaveKeepsBackupsAndReadProjectReplaysTheJournal) {
+    TempDir dir;
+    Sculptor s;
+    std::vector<Entry> final;
+    {
+        JournalWriter j(journalPath(dir.path), 0);
+        s.stroke(j, ToolOp::Add, 4, {-20, 0, 0}, {20, 0, 0});
+        s.save(dir.path, j);
+        // A first save has no older snapshot: the new one is also its own backup.
+        EXPECT_EQ(readFile(snapshotBackupPath(dir.path)), readFile(snapshotPath(dir.path)));
+        s.stroke(j, ToolOp::Carve, 3, {0, -15, 0}, {0, 15, 0});
+        s.save(dir.path, j);
+        s.stroke(j, ToolOp::Add, 4, {-10, 10, 0}, {10, 10, 0});
+        s.save(dir.path, j);
+        s.stroke(j, ToolOp::Add, 5, {0, 0, -25}, {0, 0, 25});
+        s.undo(j);
+        s.stroke(j, ToolOp::Add, 2, {5, 5, 0}, {10, 5, 0});
+        final = entries(s.sculpture);
+    }
+    EXPECT_EQ(readSnapshot(snapshotPath(dir.path)).lastSequence, 3u);
+    EXPECT_EQ(readSnapshot(snapshotBackupPath(dir.path)).lastSequence, 2u);
+    const JournalContents backupJournal = readJournal(journalBackupPath(dir.path));
+    ASSERT_EQ(backupJournal.records.size(), 1u);
+    EXPECT_EQ(backupJournal.records[0].sequence, 3u);
+    EXPECT_EQ(readJournal(journalPath(dir.path)).records.size(), 3u);  // 4, 5, 6
+
+    Reopened r(dir.path);
+    EXPECT_TRUE(r.project.warnings.empty()) << allWarnings(r.project);
+    EXPECT_FALSE(r.project.fromBackup);
+    ASSERT_EQ(r.project.records.size(), 3u);
+    EXPECT_EQ(r.project.records.front().sequence, 4u);
+    EXPECT_EQ(r.project.lastSequence(), 6u);
+    EXPECT_EQ(r.project.journalValidBytes, fs::file_size(journalPath(dir.path)));
+    EXPECT_EQ(entries(*r.sculpture), final);
+    EXPECT_EQ(r.history.done().size(), 4u);
+    EXPECT_EQ(r.history.undone().size(), 0u);
+
+    // The backup route reaches the same state: the backup pair plus journal.vjl.
+    fs::remove(snapshotPath(dir.path));
+    Reopened b(dir.path);
+    EXPECT_TRUE(b.project.fromBackup);
+    ASSERT_EQ(b.project.warnings.size(), 1u) << allWarnings(b.project);
+    EXPECT_EQ(b.project.warnings[0].find(snapshotPath(dir.path).string() + ": missing"), 0u);
+    EXPECT_EQ(b.project.records.size(), 4u);
+    EXPECT_EQ(entries(*b.sculpture), final);
+    EXPECT_EQ(b.project.journalValidBytes, fs::file_size(journalPath(dir.path)));
+}
+
+TEST(Project, ADamagedSnapshotIsRecoveredFromTheBackupAndBothJournals) {
+    TempDir dir;
+    Sculptor s;
+    std::vector<Entry> final;
+    {
+        JournalWriter j(journalPath(dir.path), 0);
+        s.stroke(j, ToolOp::Add, 4, {-20, 0, 0}, {20, 0, 0});
+        s.save(dir.path, j);
+        s.stroke(j, ToolOp::Carve, 3, {0, -15, 0}, {0, 15, 0});
+        s.save(dir.path, j);
+        s.stroke(j, ToolOp::Add, 5, {0, 0, -25}, {0, 0, 25});
+        final = entries(s.sculpture);
+    }
+    const fs::path snap = snapshotPath(dir.path);
+    std::string bytes = readFile(snap);
+    bytes[bytes.size() / 2] ^= 0x40;
+    writeFile(snap, bytes);
+
+    Reopened r(dir.path);
+    EXPECT_TRUE(r.project.fromBackup);
+    ASSERT_FALSE(r.project.warnings.empty());
+    EXPECT_NE(r.project.warnings[0].find(snap.string() + ": checksum mismatch"), std::string::npos)
+        << allWarnings(r.project);
+    EXPECT_NE(r.project.warnings[0].find("recovered from"), std::string::npos);
+    ASSERT_EQ(r.project.records.size(), 2u);  // 2 from journal.vjl.bak, 3 from journal.vjl
+    EXPECT_EQ(r.project.records[0].sequence, 2u);
+    EXPECT_EQ(entries(*r.sculpture), final);
+    const std::string snapBefore = readFile(snap),
+                      backupBefore = readFile(snapshotBackupPath(dir.path));
+
+    // Saving the recovered state never turns the damaged file into the backup.
+    {
+        JournalWriter j(journalPath(dir.path), r.project.journalValidBytes);
+        saveProject(dir.path, configToJson(r.sculpture->config()), r.project.lastSequence(),
+                    *r.sculpture, r.history, j);
+    }
+    EXPECT_NE(readFile(snap), snapBefore);
+    EXPECT_NE(readFile(snapshotBackupPath(dir.path)), backupBefore);
+    EXPECT_EQ(readFile(snap), readFile(snapshotBackupPath(dir.path)));
+    Reopened clean(dir.path);
+    EXPECT_TRUE(clean.project.warnings.empty()) << allWarnings(clean.project);
+    EXPECT_EQ(entries(*clean.sculpture), final);
+    // And that backup works in turn.
+    fs::remove(snap);
+    Reopened again(dir.path);
+    EXPECT_TRUE(again.project.fromBackup);
+    EXPECT_EQ(entries(*again.sculpture), final);
+}
+
+TEST(Project, EveryMomentOfASaveRecovers) {
+    // The folder as a crash would leave it after each step of saveProject, rebuilt by hand.
+    TempDir base;
+    Sculptor s;
+    std::vector<Entry> final;
+    {
+        JournalWriter j(journalPath(base.path), 0);
+        s.stroke(j, ToolOp::Add, 4, {-20, 0, 0}, {20, 0, 0});
+        s.save(base.path, j);
+        s.stroke(j, ToolOp::Carve, 3, {0, -15, 0}, {0, 15, 0});
+        s.stroke(j, ToolOp::Add, 5, {0, 0, -25}, {0, 0, 25});
+        final = entries(s.sculpture);
+    }
+    const std::string config = configToJson(s.sculpture.config());
+    for (int step = 0; step <= 4; ++step) {
+        TempDir dir("_step" + std::to_string(step));
+        for (const auto& e : fs::directory_iterator(base.path))
+            fs::copy(e.path(), dir.path / e.path().filename());
+        const fs::path snap = snapshotPath(dir.path), journal = journalPath(dir.path);
+        if (step >= 1) replaceWithHardLink(snap, snapshotBackupPath(dir.path), true);
+        if (step >= 2) replaceWithHardLink(journal, journalBackupPath(dir.path), true);
+        if (step >= 3) writeSnapshot(snap, config, s.sequence, s.sculpture, s.history);
+        if (step >= 4) {
+            JournalWriter j(journal, fs::file_size(journal));
+            j.reset();
+        }
+        Reopened r(dir.path);
+        EXPECT_TRUE(r.project.warnings.empty())
+            << "step " << step << ": " << allWarnings(r.project);
+        EXPECT_EQ(entries(*r.sculpture), final) << "step " << step;
+        EXPECT_EQ(r.history.done().size(), 3u) << "step " << step;
+        // The backup route too, as if the snapshot were lost at that moment.
+        if (step >= 1) {
+            fs::remove(snap);
+            Reopened b(dir.path);
+            EXPECT_TRUE(b.project.fromBackup);
+            EXPECT_EQ(entries(*b.sculpture), final) << "backup, step " << step;
+        }
+    }
+}
+
+TEST(Project, ResetStartsANewFileSoALinkedOldJournalKeepsItsRecords) {
+    TempDir dir;
+    JournalWriter j(journalPath(dir.path), 0);
+    j.append(strokeRecord(1, ToolOp::Add, 4, {0, 0, 0}, {9, 0, 0}));
+    replaceWithHardLink(journalPath(dir.path), journalBackupPath(dir.path), true);
+    j.reset();
+    j.append(strokeRecord(2, ToolOp::Add, 4, {0, 0, 0}, {9, 0, 0}));
+    const JournalContents old = readJournal(journalBackupPath(dir.path));
+    const JournalContents now = readJournal(journalPath(dir.path));
+    ASSERT_EQ(old.records.size(), 1u);
+    EXPECT_EQ(old.records[0].sequence, 1u);
+    ASSERT_EQ(now.records.size(), 1u);
+    EXPECT_EQ(now.records[0].sequence, 2u);
+}
+
+TEST(Project, ReadProjectWritesNothingAndAGapEndsTheRecovery) {
+    TempDir dir;
+    {
+        JournalWriter j(journalPath(dir.path), 0);
+        // Never saved: sequence 1 must come first, and 3 does not follow it.
+        j.append(strokeRecord(3, ToolOp::Add, 4, {0, 0, 0}, {9, 0, 0}));
+        j.append(strokeRecord(4, ToolOp::Add, 4, {0, 9, 0}, {9, 9, 0}));
+    }
+    const std::string before = readFile(journalPath(dir.path));
+    const auto names = listDir(dir.path);
+    const RecoveredProject p = readProject(dir.path);
+    EXPECT_FALSE(p.snapshot);
+    EXPECT_TRUE(p.records.empty());
+    ASSERT_EQ(p.warnings.size(), 1u);
+    EXPECT_EQ(p.warnings[0], journalPath(dir.path).string() +
+                                 ": record 1 (sequence 3): expected sequence 1 next; it and the "
+                                 "rest were dropped");
+    EXPECT_EQ(p.journalValidBytes, 8u);  // a writer continues right after the header
+    EXPECT_EQ(readFile(journalPath(dir.path)), before);
+    EXPECT_EQ(listDir(dir.path), names);
+
+    const RecoveredProject none = readProject(dir.path / "never-created");
+    EXPECT_FALSE(none.snapshot);
+    EXPECT_TRUE(none.records.empty());
+    EXPECT_FALSE(fs::exists(dir.path / "never-created"));
+    writeFile(dir.path / "afile", "");
+    EXPECT_THROW(readProject(dir.path / "afile"), ProjectError);
+}
+
+TEST(Project, NothingUsableIsAnErrorNamingBothFiles) {
+    TempDir dir;
+    Sculptor s;
+    {
+        JournalWriter j(journalPath(dir.path), 0);
+        s.stroke(j, ToolOp::Add, 4, {-20, 0, 0}, {20, 0, 0});
+        s.save(dir.path, j);
+        s.save(dir.path, j);
+    }
+    writeFile(snapshotPath(dir.path), "VSSNAP01 but not much else");
+    writeFile(snapshotBackupPath(dir.path), "VSSNAP02 from the future.....");
+    try {
+        readProject(dir.path);
+        FAIL() << "no error";
+    } catch (const ProjectError& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find(snapshotPath(dir.path).string() + ": "), std::string::npos) << m;
+        EXPECT_NE(m.find(snapshotBackupPath(dir.path).string() + ": byte 0: a snapshot of format "
+                                                                 "version 02"),
+                  std::string::npos)
+            << m;
+    }
+}
+
+TEST(Project, WritersRefuseWhatReadersWouldRefuse) {
+    TempDir dir;
+    JournalWriter j(journalPath(dir.path), 0);
+    j.append(strokeRecord(1, ToolOp::Add, 4, {0, 0, 0}, {9, 0, 0}));
+    const auto size = fs::file_size(journalPath(dir.path));
+    JournalRecord bad = strokeRecord(2, ToolOp::Add, 4, {0, 0, 0}, {9, 0, 0});
+    bad.samples[1].y = std::numeric_limits<double>::quiet_NaN();
+    try {
+        j.append(bad);
+        FAIL() << "NaN journaled";
+    } catch (const ProjectError& e) {
+        EXPECT_NE(std::string(e.what()).find("sample 2 y is NaN"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(j.append(strokeRecord(3, ToolOp::Add, 4, {0, 0, 0}, {9, 0, 0})), ProjectError);
+    EXPECT_EQ(fs::file_size(journalPath(dir.path)), size);
+    j.append(strokeRecord(2, ToolOp::Add, 4, {0, 0, 0}, {9, 0, 0}));
+    EXPECT_EQ(readJournal(journalPath(dir.path)).records.size(), 2u);
+    // Continuing beyond the file's end would put zeros where records go.
+    EXPECT_THROW(JournalWriter(journalPath(dir.path), fs::file_size(journalPath(dir.path)) + 1),
+                 ProjectError);
+
+    Sculpture sculpture(config());
+    History history;
+    writeSnapshot(snapshotPath(dir.path), "{}", 0, sculpture, history);
+    const std::string good = readFile(snapshotPath(dir.path));
+    sculpture.store().set(4, LatticeCoord{1, 2, 3}, std::numeric_limits<float>::infinity());
+    try {
+        writeSnapshot(snapshotPath(dir.path), "{}", 0, sculpture, history);
+        FAIL() << "infinite weight written";
+    } catch (const ProjectError& e) {
+        EXPECT_NE(std::string(e.what()).find("skeleton 1: weight is infinite"), std::string::npos)
+            << e.what();
+    }
+    EXPECT_EQ(readFile(snapshotPath(dir.path)), good);
+}
+
+TEST(Project, FilesInTheDocumentedFormatStillOpen) {
+    // Built byte by byte from docs/projects.md, independently of the writer.
+    TempDir dir;
+    std::string snap = "VSSNAP01";
+    append(snap, uint64_t(1));
+    const std::string cfg = configToJson(config());
+    append(snap, uint32_t(cfg.size()));
+    snap += cfg;
+    append(snap, uint64_t(1));
+    append(snap, uint8_t(4));
+    append(snap, int32_t(1));
+    append(snap, int32_t(-2));
+    append(snap, int32_t(3));
+    append(snap, 0.5f);
+    append(snap, uint32_t(0));
+    append(snap, uint32_t(0));
+    append(snap, uint32_t(0));
+    fixSnapshotChecksum(snap);
+    writeFile(snapshotPath(dir.path), snap);
+    std::string undo, stroke;
+    append(stroke, uint64_t(2));
+    append(stroke, uint8_t(1));
+    append(stroke, uint8_t(1));  // carve
+    append(stroke, uint8_t(3));
+    append(stroke, uint32_t(2));
+    for (double v : {1.0, 2.0, 3.0, 4.0, 5.0, 6.0})
+        append(stroke, v);
+    append(stroke, uint32_t(0));
+    append(undo, uint64_t(3));
+    append(undo, uint8_t(2));
+    writeFile(journalPath(dir.path), journalFile({stroke, undo}));
+
+    const RecoveredProject p = readProject(dir.path);
+    EXPECT_TRUE(p.warnings.empty()) << allWarnings(p);
+    ASSERT_TRUE(p.snapshot);
+    EXPECT_EQ(p.snapshot->lastSequence, 1u);
+    ASSERT_EQ(p.snapshot->skeletons.size(), 1u);
+    EXPECT_EQ(p.snapshot->skeletons[0].coord, (LatticeCoord{1, -2, 3}));
+    EXPECT_EQ(p.snapshot->skeletons[0].weight, 0.5f);
+    ASSERT_EQ(p.records.size(), 2u);
+    EXPECT_EQ(p.records[0].tool, ToolOp::Carve);
+    EXPECT_EQ(p.records[0].level, 3);
+    EXPECT_EQ(p.records[0].samples[1], Vec3(4, 5, 6));
+    EXPECT_EQ(p.records[1].op, JournalOp::Undo);
+}
+
+// ------------------------------------------------------------------------------ validation
+
+/// Five records: stroke, stroke, stroke (5 samples), solid (3 changes), stroke.
+std::vector<std::string> samplePayloads(const fs::path& dir) {
+    {
+        JournalWriter j(journalPath(dir), 0);
+        j.append(strokeRecord(1, ToolOp::Add, 4, {0, 0, 0}, {9, 0, 0}));
+        j.append(strokeRecord(2, ToolOp::Carve, 3, {0, 0, 0}, {0, 9, 0}));
+        j.append(strokeRecord(3, ToolOp::Add, 5, {0, 0, 0}, {0, 0, 12}));
+        JournalRecord solid;
+        solid.sequence = 4;
+        solid.op = JournalOp::Solid;
+        solid.solidLevel = 4;
+        solid.changes = {{4, {0, 0, 0}, std::nullopt, 1.0f},
+                         {4, {1, 0, 0}, 0.5f, 1.0f},
+                         {3, {-1, 2, 0}, std::nullopt, 0.75f}};
+        j.append(solid);
+        j.append(strokeRecord(5, ToolOp::Add, 2, {0, 0, 0}, {3, 3, 3}));
+    }
+    return journalPayloads(readFile(journalPath(dir)));
+}
+
+// Payload offsets (docs/projects.md): u64 sequence, u8 op, then u8 tool, u8 level, u32 n,
+// n x 3 f64 samples, u32 m, m x (u8 level, 3 x i32, u8 flags, f32 before, f32 after).
+constexpr size_t kOp = 8, kTool = 9, kLevel = 10, kCount = 11, kSamples = 15;
+constexpr size_t sampleAt(int i, int axis) {
+    return kSamples + size_t(i) * 24 + size_t(axis) * 8;
+}
+constexpr size_t changeAt(int i) {
+    return kSamples + 4 + size_t(i) * 22;  // a solid has no samples
+}
+
+struct BadValue {
+    const char* name;
+    size_t record;  ///< 1-based
+    std::function<void(std::string&)> damage;
+    std::string expected;  ///< after "record N (sequence N): "
+};
+
+TEST(Project, ABadValueDropsItsRecordAndTheRestAndIsNamed) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double inf = std::numeric_limits<double>::infinity();
+    const std::vector<BadValue> cases = {
+        {"NaN sample", 3, [&](std::string& p) { put(p, sampleAt(2, 0), nan); },
+         "sample 3 x is NaN"},
+        {"infinite sample", 3, [&](std::string& p) { put(p, sampleAt(1, 1), -inf); },
+         "sample 2 y is infinite"},
+        {"huge sample", 3, [](std::string& p) { put(p, sampleAt(0, 2), 2.0e6); },
+         "sample 1 z is 2e+06 mm, not within +-1e+06 mm"},
+        {"level 9", 3, [](std::string& p) { put(p, kLevel, uint8_t(9)); },
+         "level 9 is outside 1..7"},
+        {"level 0", 1, [](std::string& p) { put(p, kLevel, uint8_t(0)); },
+         "level 0 is outside 1..7"},
+        {"unknown tool", 2, [](std::string& p) { put(p, kTool, uint8_t(7)); },
+         "tool operation 7 is unknown"},
+        {"unknown operation", 3, [](std::string& p) { put(p, kOp, uint8_t(9)); },
+         "operation 9 is unknown"},
+        {"absurd sample count", 3, [](std::string& p) { put(p, kCount, uint32_t(3'000'000)); },
+         "3000000 samples, more than the 2000000 a stroke may hold"},
+        {"sample count beyond the data", 3, [](std::string& p) { put(p, kCount, uint32_t(1000)); },
+         "unexpected end of data"},
+        {"NaN weight", 4, [&](std::string& p) { put(p, changeAt(1) + 18, float(nan)); },
+         "change 2: weight after is NaN"},
+        {"huge weight", 4, [](std::string& p) { put(p, changeAt(1) + 14, 1e30f); },
+         "change 2: weight before is 1e+30, beyond +-1e+06"},
+        {"lattice overflow", 4, [](std::string& p) { put(p, changeAt(2) + 1, int32_t(1 << 23)); },
+         "change 3: lattice x 8388608 is beyond +-4194303"},
+        {"lattice int32 min", 4,
+         [](std::string& p) { put(p, changeAt(0) + 9, std::numeric_limits<int32_t>::min()); },
+         "change 1: lattice z -2147483648 is beyond +-4194303"},
+        {"change level", 4, [](std::string& p) { put(p, changeAt(1), uint8_t(8)); },
+         "change 2: level 8 is outside 1..7"},
+        {"solid level", 4, [](std::string& p) { put(p, kLevel, uint8_t(0)); },
+         "level 0 is outside 1..7"},
+        {"change flags", 4, [](std::string& p) { put(p, changeAt(0) + 13, uint8_t(6)); },
+         "change 1: unknown flags 6"},
+        {"stroke with changes", 5,
+         [](std::string& p) {
+             const size_t m = p.size() - 4;
+             put(p, m, uint32_t(1));
+             p += std::string(22, '\0');
+             put(p, m + 4, uint8_t(4));
+         },
+         "a stroke with 1 vertex changes (only solids have them)"},
+        {"trailing bytes", 5, [](std::string& p) { p += "xyz"; }, "3 bytes after the record's end"},
+    };
+    TempDir dir;
+    const std::vector<std::string> good = samplePayloads(dir.path);
+    ASSERT_EQ(good.size(), 5u);
+    const fs::path journal = journalPath(dir.path);
+    // The control: the test's own framing and checksum reproduce a journal that reads whole.
+    writeFile(journal, journalFile(good));
+    ASSERT_EQ(readJournal(journal).records.size(), 5u) << readJournal(journal).warning;
+
+    for (const BadValue& c : cases) {
+        SCOPED_TRACE(c.name);
+        std::vector<std::string> payloads = good;
+        c.damage(payloads[c.record - 1]);
+        writeFile(journal, journalFile(payloads));
+        const JournalContents j = readJournal(journal);
+        ASSERT_EQ(j.records.size(), c.record - 1) << j.warning;
+        for (size_t i = 0; i < j.records.size(); ++i)
+            EXPECT_EQ(j.records[i].sequence, i + 1);
+        EXPECT_EQ(j.validBytes, journalEnd(payloads, c.record - 1));
+        const std::string seq = std::to_string(c.record);
+        EXPECT_EQ(j.warning, journal.string() + ": record " + seq + " (sequence " + seq +
+                                 "): " + c.expected + "; it and the rest were dropped");
+
+        // Through readProject: the same warning; a writer continues after the good records.
+        const RecoveredProject p = readProject(dir.path);
+        EXPECT_EQ(p.records.size(), c.record - 1);
+        EXPECT_EQ(allWarnings(p), j.warning + "\n");
+        EXPECT_EQ(p.journalValidBytes, j.validBytes);
+    }
+    // A sequence out of order is caught the same way.
+    std::vector<std::string> payloads = good;
+    put(payloads[1], 0, uint64_t(7));
+    writeFile(journal, journalFile(payloads));
+    EXPECT_EQ(readJournal(journal).warning,
+              journal.string() +
+                  ": record 2 (sequence 7): out of order (expected sequence 2); it and the rest "
+                  "were dropped");
+}
+
+TEST(Project, ABadSnapshotValueIsNamedAndTheBackupIsUsed) {
+    TempDir dir;
+    Sculptor s;
+    std::vector<Entry> afterFirst;
+    {
+        JournalWriter j(journalPath(dir.path), 0);
+        s.stroke(j, ToolOp::Add, 4, {-20, 0, 0}, {20, 0, 0});
+        s.save(dir.path, j);
+        afterFirst = entries(s.sculpture);
+        s.stroke(j, ToolOp::Add, 3, {0, -15, 0}, {0, 15, 0});
+        s.save(dir.path, j);
+    }
+    const fs::path snap = snapshotPath(dir.path);
+    const std::string good = readFile(snap);
+    const std::string cfg = configToJson(config());
+    // Layout: magic, u64 last sequence, u32 + config, u64 n, n x 17-byte skeletons, then the
+    // undo stack's u32 count and its first step (u8 tool, u8 level, u32 n, samples ...).
+    const size_t skeletons = 8 + 8 + 4 + cfg.size() + 8;
+    uint64_t n;
+    std::memcpy(&n, good.data() + skeletons - 8, 8);
+    ASSERT_GT(n, 2u);
+    const size_t undo = skeletons + n * 17 + 4;
+    struct Case {
+        const char* name;
+        std::function<void(std::string&)> damage;
+        std::string expected;
+    };
+    const std::vector<Case> cases = {
+        {"NaN weight",
+         [&](std::string& b) { put(b, skeletons + 13, std::numeric_limits<float>::quiet_NaN()); },
+         "skeleton 1: weight is NaN"},
+        {"level", [&](std::string& b) { put(b, skeletons + 17, uint8_t(9)); },
+         "skeleton 2: level 9 is outside 1..7"},
+        {"lattice", [&](std::string& b) { put(b, skeletons + 1, int32_t(1 << 22)); },
+         "skeleton 1: lattice x 4194304 is beyond +-4194303"},
+        {"count", [&](std::string& b) { put(b, skeletons - 8, uint64_t(1) << 60); },
+         "1152921504606846976 skeletons, more than the file holds"},
+        {"history sample",
+         [&](std::string& b) { put(b, undo + 6, std::numeric_limits<double>::infinity()); },
+         "undo step 1: sample 1 x is infinite"},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        std::string bytes = good;
+        c.damage(bytes);
+        fixSnapshotChecksum(bytes);
+        writeFile(snap, bytes);
+        try {
+            readSnapshot(snap);
+            ADD_FAILURE() << "read";
+        } catch (const ProjectError& e) {
+            EXPECT_EQ(std::string(e.what()).rfind(snap.string() + ": " + c.expected + " (byte ", 0),
+                      0u)
+                << e.what();
+        }
+        Reopened r(dir.path);
+        EXPECT_TRUE(r.project.fromBackup);
+        ASSERT_FALSE(r.project.warnings.empty());
+        EXPECT_NE(r.project.warnings[0].find(c.expected), std::string::npos)
+            << allWarnings(r.project);
+        EXPECT_EQ(entries(*r.sculpture), entries(s.sculpture));
+    }
+}
+
+// ------------------------------------------------------------------------------ redo
+
+TEST(Project, RedoSurvivesReopeningAfterStrokeAndUndo) {
+    TempDir dir;
+    Sculptor s;
+    std::vector<Entry> beforeUndo, afterUndo;
+    {
+        JournalWriter j(journalPath(dir.path), 0);
+        s.stroke(j, ToolOp::Add, 4, {-20, 0, 0}, {20, 0, 0});
+        beforeUndo = entries(s.sculpture);
+        s.undo(j);
+        afterUndo = entries(s.sculpture);
+    }
+    ASSERT_NE(beforeUndo, afterUndo);
+    // From the journal alone (never saved).
+    {
+        Reopened r(dir.path);
+        ASSERT_EQ(r.project.records.size(), 2u);
+        EXPECT_EQ(entries(*r.sculpture), afterUndo);
+        ASSERT_TRUE(r.history.canRedo());
+        r.history.redo(*r.sculpture);
+        EXPECT_EQ(entries(*r.sculpture), beforeUndo);
+    }
+    // From a snapshot taken after the undo (the redo stack travels in it).
+    {
+        JournalWriter j(journalPath(dir.path), fs::file_size(journalPath(dir.path)));
+        s.save(dir.path, j);
+        Reopened r(dir.path);
+        EXPECT_TRUE(r.project.records.empty());
+        EXPECT_EQ(entries(*r.sculpture), afterUndo);
+        ASSERT_TRUE(r.history.canRedo());
+        r.history.redo(*r.sculpture);
+        EXPECT_EQ(entries(*r.sculpture), beforeUndo);
+        // Redone as a journal record, then reopened once more.
+        s.redo(j);
+        Reopened again(dir.path);
+        EXPECT_EQ(entries(*again.sculpture), beforeUndo);
+        EXPECT_FALSE(again.history.canRedo());
+        ASSERT_TRUE(again.history.canUndo());
+        again.history.undo(*again.sculpture);
+        EXPECT_EQ(entries(*again.sculpture), afterUndo);
+    }
+    // A snapshot holding the stroke, the undo only in the journal.
+    {
+        TempDir other("_other");
+        Sculptor t;
+        JournalWriter j(journalPath(other.path), 0);
+        t.stroke(j, ToolOp::Add, 4, {-20, 0, 0}, {20, 0, 0});
+        t.save(other.path, j);
+        t.undo(j);
+        Reopened r(other.path);
+        ASSERT_EQ(r.project.records.size(), 1u);
+        EXPECT_EQ(entries(*r.sculpture), afterUndo);
+        ASSERT_TRUE(r.history.canRedo());
+        r.history.redo(*r.sculpture);
+        EXPECT_EQ(entries(*r.sculpture), beforeUndo);
+    }
+}
+
+}  // namespace
+}  // namespace vsculpt::core

@@ -2,6 +2,7 @@
 #include "vsculpt/app/RenderStill.h"
 
 #include "vsculpt/app/Rig.h"
+#include "vsculpt/core/WriteFileAtomically.h"
 #include "vsculpt/render/RayTrace.h"
 
 #include <chrono>
@@ -18,6 +19,13 @@ int runRenderStill(const RenderOptions& o, std::ostream& out, std::ostream& err)
     char x = 0;
     if (std::sscanf(o.size.c_str(), "%d%c%d", &w, &x, &h) != 3 || x != 'x') {
         err << "vsculpt render: error: --size must be WIDTHxHEIGHT, got '" << o.size << "'\n";
+        return 2;
+    }
+    // The output is checked before the (long) render.
+    try {
+        core::ensureWritable(o.outPath);
+    } catch (const std::exception& e) {
+        err << "vsculpt render: error: " << e.what() << "\n";
         return 2;
     }
     std::unique_ptr<Studio> studio;
@@ -83,6 +91,9 @@ int runRenderStill(const RenderOptions& o, std::ostream& out, std::ostream& err)
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         out << "vsculpt render: wrote " << o.outPath << " (" << w << "x" << h << ", "
             << mesh.triangleCount() << " triangles at " << spacing << " mm, " << s << " s)\n";
+    } catch (const SessionError& e) {
+        err << "vsculpt render: error: " << e.what() << "\n";  // e.g. a spacing too fine
+        return 2;
     } catch (const std::exception& e) {
         err << "vsculpt render: error: " << e.what() << "\n";
         return 1;

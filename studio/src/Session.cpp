@@ -369,7 +369,7 @@ Mesh Session::wholeMesh(double spacing) const {
         char text[160];
         std::snprintf(text, sizeof text,
                       "the sculpture spans %.3g cells at %.3g mm; at most 1024 per axis: "
-                      "choose a coarser export spacing",
+                      "choose a coarser spacing",
                       cells, spacing);
         throw SessionError(text);
     }
@@ -385,7 +385,7 @@ Mesh Session::wholeMesh(double spacing) const {
     if (n > 1024)
         throw SessionError("the sculpture spans " + std::to_string(extent) + " cells at " +
                            std::to_string(spacing) +
-                           " mm; at most 1024 per axis: choose a coarser export spacing");
+                           " mm; at most 1024 per axis: choose a coarser spacing");
     r.n = int(n);
     Polygonizer poly(*mSculpture, r, mConfig.polygonizer.bisectionTolerance);
     poly.rebuildAll();

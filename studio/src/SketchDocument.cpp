@@ -96,7 +96,7 @@ void checkUniqueIds(const std::vector<int>& ids, const char* what) {
 
 void CanvasView::zoomAbout(glm::dvec2 viewPoint, double factor) {
     if (!finite2(viewPoint)) invalid("zoomAbout: non-finite view point");
-    if (!within2(viewPoint, L::maxViewMm)) invalid("zoomAbout: view point outside [-1e6, 1e6] mm");
+    if (!within2(viewPoint, L::maxViewMm)) invalid("zoomAbout: view point outside [-1e9, 1e9] mm");
     if (!(std::isfinite(factor) && factor > 0.0)) invalid("zoomAbout: factor must be > 0");
     const double newScale = scale / factor;
     if (!scaleInRange(newScale)) invalid("zoomAbout: zoom out of range [1e-9, 1e9]");
@@ -110,7 +110,7 @@ void CanvasView::zoomAbout(glm::dvec2 viewPoint, double factor) {
 
 void CanvasView::pan(glm::dvec2 deltaView) {
     if (!finite2(deltaView)) invalid("pan: non-finite delta");
-    if (!within2(deltaView, L::maxViewMm)) invalid("pan: delta outside [-1e6, 1e6] mm");
+    if (!within2(deltaView, L::maxViewMm)) invalid("pan: delta outside [-1e9, 1e9] mm");
     const glm::dvec2 newOffset = offset - scale * deltaView;
     if (!within2(newOffset, L::maxViewOffsetMm))
         invalid("pan: the view would leave [-1e9, 1e9] mm");
@@ -274,7 +274,7 @@ namespace {
 glm::dvec2 checkPenSample(const PenSample& s, const CanvasView& view, const char* call) {
     const std::string at = std::string(call) + ": ";
     if (!finite2(s.view)) invalid(at + "non-finite position");
-    if (!within2(s.view, L::maxViewMm)) invalid(at + "view position outside [-1e6, 1e6] mm");
+    if (!within2(s.view, L::maxViewMm)) invalid(at + "view position outside [-1e9, 1e9] mm");
     if (!std::isfinite(s.time)) invalid(at + "non-finite time");
     if (!within(s.time, L::maxTime)) invalid(at + "time outside [-1e10, 1e10] s");
     if (s.pressure && !(*s.pressure >= 0.0 && *s.pressure <= 1.0))
@@ -334,7 +334,7 @@ void SketchPage::cancelStroke() {
 
 void SketchPage::hover(glm::dvec2 view) {
     if (!finite2(view)) invalid("hover: non-finite position");
-    if (!within2(view, L::maxViewMm)) invalid("hover: position outside [-1e6, 1e6] mm");
+    if (!within2(view, L::maxViewMm)) invalid("hover: position outside [-1e9, 1e9] mm");
     hover_ = view;
 }
 
@@ -485,7 +485,7 @@ void SketchPage::apply(const SketchAction& a) {
                     offset = a.factor * (s.offset - a.vec) + a.vec;
                     if (!factorInRange(scale))
                         invalid("scale: stroke " + std::to_string(id) +
-                                " would be scaled outside [1e-6, 1e6] in all");
+                                " would reach a placement scale outside [1e-6, 1e6]");
                 }
                 for (const StrokeSample& x : archive_[std::size_t(id)].stroke.samples)
                     if (!within2(scale * x.position + offset, L::maxCanvasMm))

@@ -6,11 +6,15 @@
 #include "vsculpt/sketch/NaturalSpline.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <glm/geometric.hpp>
 #include <glm/gtc/constants.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
+#include <vector>
 
 namespace vsculpt::sketch {
 namespace {
@@ -235,6 +239,110 @@ TEST(KnotDivision, ClosedCircleKeepsFewKnotsAndRejectsBadInput) {
     EXPECT_NE(std::find(kept.begin(), kept.end(), 64u), kept.end());  // farthest from point 0
     EXPECT_THROW(knotDivision(circle, true, {0.0}), std::invalid_argument);
     EXPECT_THROW(knotDivision(Polyline2{{0, 0}, {NAN, 0}}, false), std::invalid_argument);
+}
+
+// Peak resident memory of this process so far (MB); each test runs in its own process under
+// ctest, and the other tests here stay far below the margins used.
+double peakRssMb() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return double(usage.ru_maxrss) / 1024.0;  // kB on Linux
+}
+
+// The refinement as first written, depth first and without a cap: the reference the capped
+// best-first version must equal whenever the cap is not reached.
+void refineReference(const Polyline2& s, std::size_t i0, std::size_t i1, double ratio,
+                     std::vector<std::size_t>& out) {
+    if (i1 - i0 < 2) return;
+    const glm::dvec2 a = s[i0], chord = s[i1] - a;
+    const double len = glm::length(chord);
+    std::size_t k = (i0 + i1) / 2;
+    double d = -1.0;
+    for (std::size_t i = i0 + 1; i < i1; ++i) {
+        const glm::dvec2 v = s[i] - a;
+        const double di =
+            len > 0.0 ? std::abs(chord.x * v.y - chord.y * v.x) / len : glm::length(v);
+        if (di > d) {
+            d = di;
+            k = i;
+        }
+    }
+    if (!(d > ratio * len)) return;
+    refineReference(s, i0, k, ratio, out);
+    out.push_back(k);
+    refineReference(s, k, i1, ratio, out);
+}
+
+TEST(FeaturePoints, CapKeepsTheLargestSplitsAndChangesNothingBelowIt) {
+    // A jittery wave: at ratio 0.002 nearly every wiggle qualifies.
+    Polyline2 wave;
+    std::uint64_t state = 17;
+    for (int i = 0; i <= 3000; ++i) {
+        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+        const double jitter = 0.2 * (double(state >> 11) * 0x1.0p-53 - 0.5);
+        wave.push_back({0.5 * i, 8.0 * std::sin(i * 0.02) + jitter});
+    }
+    const std::size_t unlimited = std::size_t(1) << 40;
+    const Polyline2 all = strokeFeaturePoints(wave, 0.002, unlimited);
+    ASSERT_GT(all.size(), 200u);
+    // Equal to the uncapped depth-first refinement, point for point; its first split is the
+    // point farthest from the whole stroke's chord.
+    std::size_t far = 1;
+    double farthest = -1.0;
+    const glm::dvec2 a = wave.front(), chord = wave.back() - a;
+    for (std::size_t i = 1; i + 1 < wave.size(); ++i) {
+        const glm::dvec2 v = wave[i] - a;
+        const double d = std::abs(chord.x * v.y - chord.y * v.x) / glm::length(chord);
+        if (d > farthest) {
+            farthest = d;
+            far = i;
+        }
+    }
+    std::vector<std::size_t> reference{0};
+    refineReference(wave, 0, far, 0.002, reference);
+    reference.push_back(far);
+    refineReference(wave, far, wave.size() - 1, 0.002, reference);
+    reference.push_back(wave.size() - 1);
+    ASSERT_EQ(all.size(), reference.size());
+    for (std::size_t i = 0; i < all.size(); ++i)
+        EXPECT_EQ(all[i], wave[reference[i]]) << i;
+
+    const Polyline2 capped = strokeFeaturePoints(wave, 0.002);  // default cap
+    ASSERT_EQ(capped.size(), kMaxFeaturePoints);
+    EXPECT_EQ(capped.front(), wave.front());
+    EXPECT_EQ(capped.back(), wave.back());
+    // A subset of the full set, in drawing order: the cap drops splits, it never moves them.
+    std::size_t at = 0;
+    for (const glm::dvec2& p : capped) {
+        while (at < all.size() && all[at] != p)
+            ++at;
+        ASSERT_LT(at, all.size()) << "capped point not among the uncapped ones";
+    }
+    // The largest features survive: a kept point near every crest and trough of the sine.
+    for (double x = 0.5 * kPi / 0.04; x < 1500.0; x += kPi / 0.04) {
+        double nearest = 1e9;
+        for (const glm::dvec2& p : capped)
+            nearest = std::min(nearest, std::abs(p.x - x));
+        EXPECT_LT(nearest, 15.0) << "crest at x " << x;
+    }
+    // Below the cap nothing changes: the seed's three points and the refined arc.
+    EXPECT_EQ(strokeFeaturePoints(wave, 0.0, 3), strokeFeaturePoints(wave, 0.0, unlimited));
+    EXPECT_THROW(strokeFeaturePoints(wave, 0.1, 2), std::invalid_argument);
+}
+
+TEST(KnotDivision, ZigzagNeedsLinearMemory) {
+    // A zigzag whose amplitude grows along it: every interval first crosses its chord next to
+    // its start, so the division nests once per point. Keeping each level's distances alive
+    // cost memory quadratic in the points (127 MB for these 8000).
+    Polyline2 zigzag;
+    for (int i = 0; i < 8000; ++i)
+        zigzag.push_back({double(i), (i % 2 ? 1.0 : -1.0) * (1.0 + i)});
+    const double before = peakRssMb();
+    const std::vector<std::size_t> kept = knotDivision(zigzag, false);
+    EXPECT_LT(peakRssMb() - before, 32.0);
+    ASSERT_EQ(kept.size(), zigzag.size());  // every corner is significant
+    for (std::size_t i = 0; i < kept.size(); ++i)
+        ASSERT_EQ(kept[i], i);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 #include "vsculpt/sketch/CleanupSession.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <glm/geometric.hpp>
 #include <glm/gtc/constants.hpp>
 
@@ -454,6 +455,173 @@ TEST(CleanupSession, DeterministicAndRejectsBadStrokes) {
     CleanupParams bad;
     bad.pauseSeconds = 0.0;
     EXPECT_THROW(CleanupSession{bad}, std::invalid_argument);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Limits: no stroke, whatever its size, makes the session's cost grow without bound.
+
+// Peak resident memory of this process so far (MB). gtest_discover_tests runs every test in a
+// process of its own, and the other tests here stay far below the margins used.
+double peakRssMb() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return double(usage.ru_maxrss) / 1024.0;  // kB on Linux
+}
+
+// 20 points zigzagging between opposite edges of the canvas (+-1e6 mm): 38 km of ink, which
+// at the 0.5 mm resampling step asked for 76 million points per stroke (2.1 GB and more for
+// the pair). `k` shifts the copy drawn over it.
+Stroke canvasZigzag(int k) {
+    Polyline2 pts;
+    for (int i = 0; i < 20; ++i)
+        pts.push_back({-9.5e5 + 1e5 * i + 3.0 * k, (i % 2 ? 9.9e5 : -9.9e5) + 2.0 * k});
+    return makeStroke(pts, 10.0 * k, 0.01);
+}
+
+void expectWithinLimits(const CleanupSession& s) {
+    const CleanupLimits& limits = s.params().limits;
+    for (const CleanCurve& c : s.curves()) {
+        EXPECT_LE(c.knots.size(), limits.maxCurveKnots);
+        EXPECT_LE(c.samples.size(),
+                  limits.maxCurveKnots * std::size_t(s.params().samplesPerSpan) + 1);
+        for (const glm::dvec2& p : c.samples)
+            ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y));
+    }
+}
+
+TEST(CleanupLimits, ZigzagsAcrossTheWholeCanvasCostBoundedMemory) {
+    const double before = peakRssMb();
+    for (const StrokeKind kind : {StrokeKind::Curve, StrokeKind::Line})
+        for (const bool ignoreScribbles : {true, false})
+            for (const double ratio : {0.0, 0.05, 1e-4}) {
+                SCOPED_TRACE(std::to_string(int(kind)) + " " + std::to_string(ignoreScribbles) +
+                             " " + std::to_string(ratio));
+                CleanupParams params = explicitParams();
+                params.ignoreScribbles = ignoreScribbles;
+                params.featureChordRatio = ratio;
+                CleanupSession session(params);
+                for (int k = 0; k < 2; ++k)
+                    session.addStroke(canvasZigzag(k), kind);
+                EXPECT_LE(session.previewPending().size(), 1u);
+                ASSERT_NO_THROW(session.endGroup());
+                for (int k = 0; k < 2; ++k) {
+                    const StrokeReport& r = session.strokeReport(k);
+                    EXPECT_EQ(r.samples, 20u);
+                    EXPECT_LE(r.points, params.limits.maxStrokePoints);
+                    EXPECT_GE(r.points, params.limits.maxStrokePoints - 4);
+                    EXPECT_TRUE(r.coarsened);
+                    EXPECT_GT(r.spacing, 9000.0);
+                    EXPECT_LE(r.featurePoints, params.limits.maxFeaturePoints);
+                    EXPECT_NE(r.note.find("4096-point limit"), std::string::npos) << r.note;
+                    EXPECT_EQ(r.scribble, ignoreScribbles);  // back and forth 19 times
+                }
+                // Without the scribble rule the pair is one curve or one line, as drawn.
+                EXPECT_EQ(session.curveCount(), ignoreScribbles ? 0u : 1u);
+                expectWithinLimits(session);
+            }
+    // All twelve sessions together; before the limits one of them needed over 2 GB.
+    EXPECT_LT(peakRssMb() - before, 100.0);
+}
+
+TEST(CleanupLimits, ChainedStrokesKeepTheCurveWithinItsKnotLimit) {
+    // 60 wavy strokes (not scribbles: each turn stays below the reversal angle), each
+    // continuing where the last ended, in one group: every join chains about 15 more feature
+    // points onto the curve.
+    for (const bool smooth : {false, true}) {
+        CleanupParams params = explicitParams();
+        params.featureChordRatio = 0.01;
+        params.smooth = smooth;
+        CleanupSession session(params);
+        for (int k = 0; k < 60; ++k) {
+            Polyline2 pts;
+            for (int i = 0; i <= 120; ++i) {
+                const double x = 60.0 * k + 0.5 * i;
+                pts.push_back({x, 3.0 * std::sin(x * 2.0 * kPi / 8.0)});
+            }
+            session.addStroke(makeStroke(pts, k, 0.001), StrokeKind::Curve);
+        }
+        ASSERT_NO_THROW(session.endGroup());
+        ASSERT_EQ(session.curveCount(), 1u);
+        const CleanCurve& c = session.curve(0);
+        EXPECT_LE(c.knots.size(), params.limits.maxCurveKnots);
+        EXPECT_NE(c.limitNote.find("limit 256"), std::string::npos) << c.limitNote;
+        EXPECT_EQ(c.strokes.size(), 60u);
+        // The simplified curve still runs the whole chain.
+        EXPECT_NEAR(c.samples.front().x, 0.0, 1.0);
+        EXPECT_NEAR(c.samples.back().x, 60.0 * 59 + 60.0, 1.0);
+        expectWithinLimits(session);
+    }
+}
+
+TEST(CleanupLimits, NormalDrawingIsUnchangedBitForBit) {
+    // Partial arcs, a correction, a loop and lines, with the default limits and with limits
+    // no input reaches: the same curves, and no stroke reports a limit.
+    const auto run = [](CleanupLimits limits) {
+        CleanupParams params = explicitParams();
+        params.featureChordRatio = 0.05;
+        params.limits = limits;
+        CleanupSession s(params);
+        Rng rng{5};
+        const auto arc = [](double u) { return 60.0 * glm::dvec2{std::cos(u), std::sin(u)}; };
+        for (int k = 0; k < 5; ++k)
+            s.addStroke(drawStroke(arc, 0.3 * k, 0.3 * k + 0.8, 0.4, k, rng), StrokeKind::Curve);
+        s.endGroup();
+        s.addStroke(drawStroke(arc, 0.5, 1.2, 0.4, 6, rng), StrokeKind::Curve);
+        s.endGroup();
+        const auto circle = [](double u) {
+            return glm::dvec2{200, 0} + 30.0 * glm::dvec2{std::cos(u), std::sin(u)};
+        };
+        s.addStroke(drawStroke(circle, 0.0, 2 * kPi + 0.3, 0.3, 8, rng), StrokeKind::Curve);
+        s.endGroup();
+        const auto line = [](double u) { return glm::dvec2{u, 0.3 * u - 50}; };
+        for (int k = 0; k < 3; ++k)
+            s.addStroke(drawStroke(line, -80, 120, 0.3, 10 + k, rng), StrokeKind::Line);
+        s.endGroup();
+        for (std::size_t i = 0; i < s.strokes().size(); ++i) {
+            EXPECT_TRUE(s.strokeReport(int(i)).note.empty()) << s.strokeReport(int(i)).note;
+            EXPECT_EQ(s.strokeReport(int(i)).spacing, params.resampleSpacing);
+        }
+        for (const CleanCurve& c : s.curves())
+            EXPECT_TRUE(c.limitNote.empty());
+        return s.curves();
+    };
+    CleanupLimits unreachable;
+    unreachable.maxStrokePoints = unreachable.maxFeaturePoints = unreachable.maxCurveKnots =
+        unreachable.maxGroupInkPoints = std::size_t(1) << 40;
+    const auto a = run({}), b = run(unreachable);
+    ASSERT_EQ(a.size(), 3u);
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        EXPECT_EQ(a[i].knots, b[i].knots);
+        EXPECT_EQ(a[i].samples, b[i].samples);
+        EXPECT_EQ(a[i].closed, b[i].closed);
+    }
+}
+
+TEST(CleanupLimits, RefusesParametersThatWouldUnboundTheCost) {
+    CleanupParams p;
+    p.samplesPerSpan = 100000;
+    EXPECT_THROW(CleanupSession{p}, std::invalid_argument);
+    p = {};
+    p.join.samplesPerSpan = 0;
+    EXPECT_THROW(CleanupSession{p}, std::invalid_argument);
+    p = {};
+    p.limits.maxStrokePoints = 3;
+    EXPECT_THROW(CleanupSession{p}, std::invalid_argument);
+    p = {};
+    p.limits.maxCurveKnots = 2;
+    EXPECT_THROW(CleanupSession{p}, std::invalid_argument);
+    p = {};
+    p.resampleSpacing = 1e-5;  // the point limit, not the step, bounds the work
+    CleanupSession tiny(p);
+    tiny.addStroke(makeStroke({{0, 0}, {10, 0}, {20, 5}}), StrokeKind::Curve);
+    EXPECT_LE(tiny.strokeReport(0).points, p.limits.maxStrokePoints);
+    EXPECT_TRUE(tiny.strokeReport(0).coarsened);
+    EXPECT_THROW(tiny.strokeReport(1), std::out_of_range);
+    // Positions beyond the canvas bound are refused, not resampled into gigabytes.
+    EXPECT_THROW(tiny.addStroke(makeStroke({{0, 0}, {1e308, 0}}), StrokeKind::Curve),
+                 std::invalid_argument);
+    EXPECT_EQ(tiny.strokes().size(), 1u);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include "vsculpt/sketch/StrokeClosedness.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <glm/geometric.hpp>
 #include <glm/gtc/constants.hpp>
 
@@ -148,6 +149,101 @@ TEST(ScribbleDetection, ZigzagIsScribbleSmoothCurvesAreNot) {
     const Polyline2 hairpin{{0, 0}, {50, 0}, {50, 1}, {0, 1}};
     EXPECT_EQ(countReversals(hairpin), 1);
     EXPECT_FALSE(isScribble(hairpin));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bounds: input of any size costs bounded memory, or is refused before anything is allocated.
+
+// Peak resident memory of this process so far (MB); each test runs in its own process under
+// ctest, and the other tests here stay far below the margins used.
+double peakRssMb() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return double(usage.ru_maxrss) / 1024.0;  // kB on Linux
+}
+
+// 20 points zigzagging between opposite edges of the canvas: 38 km of ink.
+Polyline2 canvasZigzag() {
+    Polyline2 pts;
+    for (int i = 0; i < 20; ++i)
+        pts.push_back({-9.5e5 + 1e5 * i, i % 2 ? 9.9e5 : -9.9e5});
+    return pts;
+}
+
+TEST(Stroke, PositionsAndTimesAreBounded) {
+    Stroke s = makeStroke({{0, 0}, {kMaxStrokeCoordinate, -kMaxStrokeCoordinate}});
+    EXPECT_NO_THROW(validateStroke(s));
+    s.samples[1].position.x = 1e308;
+    try {
+        validateStroke(s);
+        FAIL() << "expected a throw";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_EQ(std::string(e.what()), "stroke: position outside [-1e6, 1e6] mm at sample 1");
+    }
+    s.samples[1].position.x = 0.0;
+    s.samples[1].time = 1e11;
+    EXPECT_THROW(validateStroke(s), std::invalid_argument);
+    s.samples[1].time = 1.7e9;  // seconds since the Unix epoch
+    EXPECT_NO_THROW(validateStroke(s));
+}
+
+TEST(ResampleStroke, TooFineAStepIsRefusedBeforeAllocating) {
+    const Stroke across = makeStroke({{-1e6, 0}, {1e6, 0}});
+    const double before = peakRssMb();
+    // 2 million points at 1 mm: over the default bound of a million.
+    EXPECT_THROW(resampleByArcLength(across, 1.0), std::invalid_argument);
+    EXPECT_THROW(resampleByArcLength(strokePositions(across), 0.5), std::invalid_argument);
+    EXPECT_LT(peakRssMb() - before, 16.0);
+    EXPECT_EQ(resampleByArcLength(across, 1e5, 21).samples.size(), 21u);
+    EXPECT_THROW(resampleByArcLength(across, 1e5, 20), std::invalid_argument);
+}
+
+TEST(ResampleStroke, BoundedSpacingKeepsAnyLengthWithinThePointLimit) {
+    EXPECT_EQ(boundedSpacing(100.0, 0.5, 4096), 0.5);  // short strokes keep their step
+    for (const std::size_t maxPoints : {std::size_t(4), std::size_t(17), std::size_t(4096)})
+        for (const double len : {0.0, 1e-9, 0.3, 7.0, 2047.0, 2048.0, 2049.5, 1e4, 1.9e6}) {
+            const Stroke s = makeStroke({{0, 0}, {len / 2, 0}, {len / 2, len / 2}});
+            const double spacing = boundedSpacing(strokeLength(s), 0.5, maxPoints);
+            EXPECT_GE(spacing, 0.5);
+            EXPECT_LE(resampleByArcLength(s, spacing, maxPoints).samples.size(), maxPoints)
+                << len << " mm, " << maxPoints;
+        }
+    EXPECT_THROW(boundedSpacing(INFINITY, 0.5, 100), std::invalid_argument);
+    EXPECT_THROW(boundedSpacing(1.0, 0.0, 100), std::invalid_argument);
+    EXPECT_THROW(boundedSpacing(1.0, 0.5, 3), std::invalid_argument);
+}
+
+TEST(ScribbleDetection, CanvasSizedZigzagCostsBoundedMemory) {
+    const double before = peakRssMb();
+    // At the 1 mm step this resampled to 38 million points (over 1 GB).
+    EXPECT_GE(countReversals(canvasZigzag()), 18);
+    EXPECT_TRUE(isScribble(canvasZigzag()));
+    EXPECT_LT(peakRssMb() - before, 16.0);
+    ScribbleParams p;
+    p.maxPoints = 3;
+    EXPECT_THROW(isScribble(canvasZigzag(), p), std::invalid_argument);
+}
+
+TEST(SelfIntersections, CrossingsAreCappedInOrder) {
+    // A star polygon: its 400 chords nearly all cross each other, about 80 000 crossings.
+    Polyline2 star;
+    for (int i = 0; i < 400; ++i) {
+        const double a = i * kPi * (1.0 - 1.0 / 401.0);
+        star.push_back({100 * std::cos(a), 100 * std::sin(a)});
+    }
+    const auto hits = findSelfIntersections(star, false);
+    ASSERT_EQ(hits.size(), kMaxSelfIntersections);
+    const auto more = findSelfIntersections(star, false, 100000);
+    ASSERT_GT(more.size(), hits.size());
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+        ASSERT_EQ(hits[i].segmentA, more[i].segmentA);
+        ASSERT_EQ(hits[i].segmentB, more[i].segmentB);
+    }
+    const auto first = findSelfIntersections(star, false, 1);
+    ASSERT_EQ(first.size(), 1u);
+    EXPECT_EQ(first[0].point, more[0].point);
+    EXPECT_TRUE(findSelfIntersections(star, false, 0).empty());
+    EXPECT_TRUE(hasSelfIntersection(star, false));
 }
 
 }  // namespace

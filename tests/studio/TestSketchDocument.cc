@@ -3,6 +3,7 @@
 #include "vsculpt/studio/SketchDocument.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
@@ -753,6 +754,268 @@ TEST(SketchFile, BadFilesNameTheField) {
     EXPECT_EQ(errorOf(good.dump().substr(0, 200)).substr(0, 9), "not JSON:");
     EXPECT_EQ(errorOf("[1, 2]"), "(root): expected an object");
     EXPECT_EQ(errorOf(good.dump()), "(no error)");
+}
+
+TEST(SketchFile, EveryClassOfBadValueNamesItsField) {
+    using nlohmann::json;
+    const json good = json::parse(sampleDocument().toJson());
+    // Page 0: strokes 0-5 (stroke 1 has pressure and tilt); done[2] scale, done[3] move,
+    // done[4] stroke role, done[5] a clean-up stroke, done[9] curve role. Page 1: strokes 0-5,
+    // stroke 5 reused from 3.
+    const std::string s12 = "pages[0].strokes[1].samples[2]";
+    struct Case {
+        std::function<void(json&)> edit;
+        std::string expected;  // start of the message
+    };
+    const auto sample = [](json& j) -> json& { return j["pages"][0]["strokes"][1]["samples"][2]; };
+    const std::vector<Case> cases = {
+        // Numbers that are not finite or lie beyond the documented bounds.
+        {[&](json& j) { sample(j)["x"] = 1e308; }, s12 + ".x: outside [-1e6, 1e6] mm"},
+        {[&](json& j) { sample(j)["y"] = -1000000.5; }, s12 + ".y: outside [-1e6, 1e6] mm"},
+        {[&](json& j) { sample(j)["x"] = NAN; }, s12 + ".x: expected a number"},  // null
+        {[&](json& j) { sample(j)["t"] = 1e300; }, s12 + ".t: outside [-1e10, 1e10] s"},
+        {[&](json& j) { sample(j)["pressure"] = 1e308; }, s12 + ".pressure: outside [0, 1]"},
+        {[&](json& j) { sample(j)["tiltX"] = -1e308; }, s12 + ".tiltX: outside [-90, 90] degrees"},
+        {[](json& j) { j["pages"][0]["strokes"][0]["inkScale"] = 1e300; },
+         "pages[0].strokes[0].inkScale: outside [1e-9, 1e9]"},
+        {[](json& j) { j["pages"][0]["strokes"][0]["inkScale"] = 0; },
+         "pages[0].strokes[0].inkScale: outside [1e-9, 1e9]"},
+        {[](json& j) { j["pages"][0]["view"]["scale"] = 1e300; },
+         "pages[0].view.scale: outside [1e-9, 1e9]"},
+        {[](json& j) { j["pages"][0]["view"]["offset"][0] = 1e300; },
+         "pages[0].view.offset[0]: outside [-1e9, 1e9] mm"},
+        {[](json& j) { j["pages"][0]["done"][3]["delta"][0] = 1e300; },
+         "pages[0].done[3].delta[0]: outside [-2e6, 2e6] mm"},
+        {[](json& j) { j["pages"][0]["done"][2]["factor"] = 1e300; },
+         "pages[0].done[2].factor: outside [1e-6, 1e6]"},
+        {[](json& j) { j["pages"][0]["done"][2]["factor"] = -2; },
+         "pages[0].done[2].factor: outside [1e-6, 1e6]"},
+        {[](json& j) { j["pages"][0]["done"][2]["pivot"][1] = 1e300; },
+         "pages[0].done[2].pivot[1]: outside [-1e6, 1e6] mm"},
+        // In range, but it would carry a stroke off the canvas when replayed.
+        {[](json& j) { j["pages"][0]["done"][3]["delta"][0] = 1.9e6; },
+         "pages[0].done[3]: move: stroke 0 would leave the canvas [-1e6, 1e6] mm"},
+        // Names, enums, roles and ids out of range.
+        {[](json& j) { j["pages"][0]["kind"] = "spline"; },
+         "pages[0].kind: expected \"line\" or \"curve\", got \"spline\""},
+        {[](json& j) { j["pages"][0]["done"][5]["kind"] = "arc"; },
+         "pages[0].done[5].kind: expected \"line\" or \"curve\""},
+        {[](json& j) { j["pages"][0]["done"][4]["target"] = "both"; },
+         "pages[0].done[4].target: expected \"stroke\" or \"curve\""},
+        {[](json& j) { j["pages"][0]["done"][4]["role"] = 3; },
+         "pages[0].done[4].role: expected a string"},
+        {[](json& j) { j["pages"][0]["mode"] = 1; }, "pages[0].mode: expected a string"},
+        {[](json& j) { j["pages"][0]["done"][0]["stroke"] = -1; },
+         "pages[0].done[0]: stroke: unknown stroke -1"},
+        {[](json& j) { j["pages"][0]["done"][0]["stroke"] = 18446744073709551615ULL; },
+         "pages[0].done[0].stroke: integer out of range"},
+        {[](json& j) { j["pages"][0]["done"][0]["stroke"] = 1e20; },
+         "pages[0].done[0].stroke: expected an integer"},
+        {[](json& j) { j["pages"][0]["done"][3]["strokes"] = {99}; },
+         "pages[0].done[3].strokes[0]: no stroke 99 in the page"},
+        {[](json& j) { j["pages"][0]["done"][9]["id"] = 99; },
+         "pages[0].done[9]: role: no clean curve 99"},
+        {[](json& j) { j["pages"][1]["strokes"][5]["reusedFrom"] = 99; },
+         "pages[1].strokes[5].reusedFrom: must name an earlier stroke"},
+        {[](json& j) { j["current"] = -1; }, "current: no page -1"},
+        {[](json& j) { j["version"] = 1.5; }, "version: expected an integer"},
+        // Wrong types.
+        {[](json& j) { j["pages"][0]["strokes"][1]["samples"] = json::object(); },
+         "pages[0].strokes[1].samples: expected an array"},
+        {[&](json& j) { sample(j) = 5; }, s12 + ": expected an object"},
+        {[&](json& j) { sample(j).erase("y"); }, s12 + ".y: missing"},
+        {[](json& j) { j["pages"][0]["strokes"][1]["hasPressure"] = "yes"; },
+         "pages[0].strokes[1].hasPressure: expected true or false"},
+        {[](json& j) { j["pages"] = "x"; }, "pages: expected an array"},
+        {[](json& j) { j["pages"][0] = json::array(); }, "pages[0]: expected an object"},
+        {[](json& j) { j["pages"][0]["view"] = json::array(); },
+         "pages[0].view: expected an object"},
+        {[](json& j) {
+             j["pages"][0]["done"][3]["delta"] = {1, 2, 3};
+         },
+         "pages[0].done[3].delta: expected [x, y]"},
+        {[](json& j) { j["pages"][0]["name"] = 7; }, "pages[0].name: expected a string"},
+        {[](json& j) { j["pages"][0]["done"] = json::object(); },
+         "pages[0].done: expected an array"},
+        // Absurd sizes, refused before their elements are read.
+        {[](json& j) {
+             json& samples = j["pages"][1]["strokes"][0]["samples"];
+             while (samples.size() <= SketchLimits::maxStrokeSamples)
+                 samples.push_back(samples[0]);
+         },
+         "pages[1].strokes[0].samples: more than 100000 elements"},
+        {[](json& j) { j["pages"][0]["name"] = std::string(2000, 'n'); },
+         "pages[0].name: longer than 1024 bytes"},
+        {[](json& j) { j["pages"][1]["group"] = std::string(2000, 'g'); },
+         "pages[1].group: longer than 1024 bytes"},
+        {[](json& j) { j["pages"][0]["done"][3]["strokes"] = {0, 1, 2, 3, 4, 5, 0}; },
+         "pages[0].done[3].strokes: more than 6 elements"},
+        {[](json& j) { j["pages"] = json(std::vector<json>(SketchLimits::maxPages + 1)); },
+         "pages: more than 10000 elements"},
+        {[](json& j) {
+             j["pages"][0]["strokes"] = json(std::vector<json>(SketchLimits::maxPageStrokes + 1));
+         },
+         "pages[0].strokes: more than 100000 elements"},
+        {[](json& j) {
+             j["pages"][0]["done"] = json(std::vector<json>(SketchLimits::maxPageActions + 1));
+         },
+         "pages[0].done: more than 1000000 elements"},
+    };
+    for (const Case& c : cases) {
+        json bad = good;
+        c.edit(bad);
+        const std::string message = errorOf(bad.dump());
+        EXPECT_EQ(message.substr(0, c.expected.size()), c.expected) << message;
+    }
+    // A number too large for a double fails in the parser, with the parser's words.
+    json big = good;
+    sample(big)["x"] = 12345.678;
+    std::string text = big.dump();
+    text.replace(text.find("12345.678"), 9, "1e400");
+    EXPECT_EQ(errorOf(text).substr(0, 9), "not JSON:") << errorOf(text);
+    EXPECT_EQ(errorOf(std::string(100000, '[')).substr(0, 9), "not JSON:");
+}
+
+// Peak resident memory of this process so far (MB); each test runs in its own process under
+// ctest, and the other tests here stay far below the margins used.
+double peakRssMb() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return double(usage.ru_maxrss) / 1024.0;  // kB on Linux
+}
+
+std::string messageOf(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const std::invalid_argument& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+TEST(SketchLimits, PenInputBeyondTheBoundsIsRefusedNamingTheValue) {
+    SketchPage page("p", "g");
+    EXPECT_EQ(messageOf([&] {
+                  page.penDown(pen({1e308, 0}, 0));
+              }),
+              "penDown: view position outside [-1e9, 1e9] mm");
+    EXPECT_EQ(messageOf([&] {
+                  page.penDown(pen({0, 0}, 1e11));
+              }),
+              "penDown: time outside [-1e10, 1e10] s");
+    // A sane pen position through a view zoomed out to the limit lands off the canvas.
+    page.setView({1e9, {0, 0}});
+    EXPECT_EQ(messageOf([&] {
+                  page.penDown(pen({10, 0}, 0));
+              }),
+              "penDown: canvas position outside [-1e6, 1e6] mm (the view maps the pen there)");
+    EXPECT_EQ(messageOf([&] {
+                  page.setView({1e10, {0, 0}});
+              }),
+              "view.scale must be in [1e-9, 1e9]");
+    EXPECT_EQ(messageOf([&] {
+                  page.setView({1, {1e10, 0}});
+              }),
+              "view.offset must be in [-1e9, 1e9]");
+    page.setView({1e8, {0, 0}});
+    EXPECT_EQ(messageOf([&] {
+                  page.zoomAbout({1e10, 0}, 2);
+              }),
+              "zoomAbout: view point outside [-1e9, 1e9] mm");
+    EXPECT_EQ(messageOf([&] {
+                  page.zoomAbout({100, 0}, 0.5);
+              }),
+              "zoomAbout: the view would leave [-1e9, 1e9] mm");
+    EXPECT_EQ(messageOf([&] { page.pan({100, 0}); }), "pan: the view would leave [-1e9, 1e9] mm");
+    EXPECT_EQ(messageOf([&] { page.pan({1e300, 0}); }), "pan: delta outside [-1e9, 1e9] mm");
+    EXPECT_EQ(page.view(), (CanvasView{1e8, {0, 0}}));  // refused calls changed nothing
+    page.resetView();
+    EXPECT_THROW(page.hover({0, -1e300}), std::invalid_argument);
+    EXPECT_THROW(page.advanceTime(1e300), std::invalid_argument);
+    EXPECT_FALSE(page.penIsDown());
+    EXPECT_TRUE(page.history().empty());
+
+    // Edits that would carry ink off the canvas.
+    const int id = *draw(page, segment({0, 0}, {30, 10}), 0.0);
+    page.select({id});
+    const PageContent drawn = page.content();
+    EXPECT_EQ(messageOf([&] {
+                  page.moveSelection({1.5e6, 0});
+              }),
+              "move: stroke 0 would leave the canvas [-1e6, 1e6] mm");
+    EXPECT_EQ(messageOf([&] {
+                  page.moveSelection({3e6, 0});
+              }),
+              "move: delta not finite or outside [-2e6, 2e6] mm");
+    EXPECT_EQ(messageOf([&] { page.scaleSelection(1e7); }), "scale: factor outside [1e-6, 1e6]");
+    EXPECT_EQ(messageOf([&] {
+                  page.scaleSelection(1e5, {0, 0});
+              }),
+              "scale: stroke 0 would leave the canvas [-1e6, 1e6] mm");
+    ASSERT_TRUE(page.scaleSelection(1e-5, {0, 0}));
+    EXPECT_EQ(messageOf([&] {
+                  page.scaleSelection(1e-5, {0, 0});
+              }),
+              "scale: stroke 0 would reach a placement scale outside [1e-6, 1e6]");
+    ASSERT_TRUE(page.undo());
+    EXPECT_EQ(page.content(), drawn);
+    EXPECT_EQ(page.undoCount(), 1u);
+    EXPECT_THROW(page.selectLasso({{0, 0}, {1e300, 0}, {0, 1}}), std::invalid_argument);
+    EXPECT_THROW(page.selectNearest({-1e300, 0}, 1.0), std::invalid_argument);
+
+    // One stroke holds at most maxStrokeSamples samples; the stroke keeps those it has.
+    page.penDown(pen({0, 0}, 10.0));
+    for (std::size_t i = 1; i < SketchLimits::maxStrokeSamples; ++i)
+        page.penMove(pen({1e-3 * double(i), 0}, 10.0 + 1e-4 * double(i)));
+    EXPECT_EQ(messageOf([&] {
+                  page.penMove(pen({200, 0}, 30.0));
+              }),
+              "penMove: the stroke has 100000 samples, the most a stroke can hold");
+    const std::optional<int> full = page.penUp();
+    ASSERT_TRUE(full);
+    EXPECT_EQ(page.history()[std::size_t(*full)].stroke.samples.size(),
+              SketchLimits::maxStrokeSamples);
+    EXPECT_THROW(page.setName(std::string(2000, 'n')), std::invalid_argument);
+}
+
+TEST(SketchLimits, CanvasWideZigzagsInCleanupModeCostBoundedMemory) {
+    // Two 20-point zigzags drawn over each other while zoomed far out, so that each spans the
+    // whole canvas (38 km of ink): in clean-up mode they once took 2.1 GB.
+    const double before = peakRssMb();
+    SketchParams params;
+    params.cleanup.trigger = sketch::CleanupTrigger::Explicit;
+    params.cleanup.ignoreScribbles = false;  // make them a curve and a line, not scribbles
+    SketchDocument doc(params);
+    SketchPage& page = doc.current();
+    page.setView({1e4, {0, 0}});  // one view mm is 10 m of canvas
+    page.setMode(SketchMode::Cleanup);
+    std::vector<int> ids;
+    for (const StrokeKind kind : {StrokeKind::Curve, StrokeKind::Line}) {
+        page.setKind(kind);
+        for (int k = 0; k < 2; ++k) {
+            Polyline2 view;
+            for (int i = 0; i < 20; ++i)
+                view.push_back({-95.0 + 10.0 * i + 3e-4 * k, (i % 2 ? 99.0 : -99.0) + 2e-4 * k});
+            ids.push_back(*draw(page, view, 10.0 * double(ids.size())));
+        }
+        ASSERT_TRUE(page.endGroup());
+    }
+    const sketch::CleanupLimits& limits = params.cleanup.limits;
+    for (int id : ids) {
+        const std::string note = page.cleanupNote(id);
+        EXPECT_NE(note.find("4096-point limit"), std::string::npos) << note;
+    }
+    for (std::size_t i = 0; i < page.cleanup().strokes().size(); ++i)
+        EXPECT_LE(page.cleanup().strokeReport(int(i)).points, limits.maxStrokePoints);
+    ASSERT_EQ(page.cleanCurves().size(), 2u);
+    for (const CleanCurve& c : page.cleanCurves()) {
+        EXPECT_LE(c.knots.size(), limits.maxCurveKnots);
+        EXPECT_LE(c.samples.size(), limits.maxCurveKnots * 16 + 1);
+    }
+    // The file replays them under the same limits.
+    const SketchDocument back = SketchDocument::fromJson(doc.toJson(), params);
+    EXPECT_EQ(back.page(0).content(), page.content());
+    EXPECT_LT(peakRssMb() - before, 100.0);
 }
 
 }  // namespace

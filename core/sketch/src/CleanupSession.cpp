@@ -4,9 +4,11 @@
 #include "vsculpt/sketch/FeaturePoints.h"
 #include "vsculpt/sketch/NaturalSpline.h"
 #include "vsculpt/sketch/ResampleStroke.h"
+#include "vsculpt/sketch/ScribbleDetection.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <stdexcept>
 #include <utility>
@@ -14,6 +16,10 @@
 namespace vsculpt::sketch {
 
 namespace {
+
+// Output polylines hold knots x samplesPerSpan points per curve version; beyond this the
+// density is invisible and only costs memory.
+constexpr int kMaxSamplesPerSpan = 256;
 
 bool contains(const std::vector<int>& v, int x) {
     return std::find(v.begin(), v.end(), x) != v.end();
@@ -28,6 +34,50 @@ Polyline2 trimLoop(const Polyline2& poly) {
     return Polyline2(poly.begin(), poly.begin() + std::ptrdiff_t(best) + 1);
 }
 
+// Every k-th point (and the last) so that at most maxPoints remain; evenly spread by index.
+Polyline2 thinEvenly(const Polyline2& points, std::size_t maxPoints, bool closed) {
+    const std::size_t n = points.size();
+    if (n <= maxPoints) return points;
+    Polyline2 out;
+    out.reserve(maxPoints);
+    // Open: both ends stay. Closed: the loop has n spans and the first point stands for both.
+    const std::size_t last = closed ? maxPoints : maxPoints - 1;
+    const std::size_t span = closed ? n : n - 1;
+    for (std::size_t i = 0; i < maxPoints; ++i)
+        out.push_back(points[i * span / last]);
+    return out;
+}
+
+// Knot division keeping at most maxKeep points: epsilon grows until it does, so the most
+// significant shape survives; evenly thinned indices are the last resort. `wanted` is how many
+// the plain division keeps.
+std::vector<std::size_t> divideWithin(const Polyline2& curve, bool closed, KnotDivisionParams p,
+                                      std::size_t maxKeep, std::size_t& wanted) {
+    std::vector<std::size_t> keep = knotDivision(curve, closed, p);
+    wanted = keep.size();
+    // Growing by sqrt(2) overshoots the limit less than doubling; 80 steps multiply epsilon by
+    // 1e12, beyond which every curve is one straight span.
+    for (int round = 0; round < 80 && keep.size() > maxKeep; ++round) {
+        p.epsilon *= std::sqrt(2.0);
+        keep = knotDivision(curve, closed, p);
+    }
+    if (keep.size() > maxKeep) {
+        std::vector<std::size_t> thinned;
+        const std::size_t last = closed ? maxKeep : maxKeep - 1;
+        const std::size_t span = closed ? keep.size() : keep.size() - 1;
+        for (std::size_t i = 0; i < maxKeep; ++i)
+            thinned.push_back(keep[i * span / last]);
+        keep = std::move(thinned);
+    }
+    return keep;
+}
+
+std::string number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", v);
+    return buf;
+}
+
 }  // namespace
 
 CleanupSession::CleanupSession(CleanupParams params) : params_(std::move(params)) {
@@ -35,18 +85,50 @@ CleanupSession::CleanupSession(CleanupParams params) : params_(std::move(params)
     if (!(p.pauseSeconds > 0.0)) throw std::invalid_argument("CleanupSession: pauseSeconds <= 0");
     if (!(p.pressureThreshold >= 0.0 && p.pressureThreshold <= 1.0))
         throw std::invalid_argument("CleanupSession: pressureThreshold outside [0, 1]");
-    if (p.samplesPerSpan < 1) throw std::invalid_argument("CleanupSession: samplesPerSpan < 1");
+    if (p.samplesPerSpan < 1 || p.samplesPerSpan > kMaxSamplesPerSpan ||
+        p.join.samplesPerSpan < 1 || p.join.samplesPerSpan > kMaxSamplesPerSpan)
+        throw std::invalid_argument("CleanupSession: samplesPerSpan outside [1, 256]");
     if (!(p.resampleSpacing > 0.0))
         throw std::invalid_argument("CleanupSession: resampleSpacing <= 0");
     if (!(p.attachDistance >= 0.0) || !(p.attachFraction > 0.0 && p.attachFraction <= 1.0))
         throw std::invalid_argument("CleanupSession: attach parameters out of range");
     if (!(p.knots.epsilon > 0.0)) throw std::invalid_argument("CleanupSession: epsilon <= 0");
+    const CleanupLimits& l = p.limits;
+    if (l.maxStrokePoints < 16 || l.maxFeaturePoints < 4 || l.maxCurveKnots < 8 ||
+        l.maxGroupInkPoints < 16)
+        throw std::invalid_argument("CleanupSession: limits below their minimums");
+    // Checked here so that addStroke's scribble test cannot throw for a bad parameter later.
+    if (p.ignoreScribbles) isScribble(Polyline2{{0.0, 0.0}, {1.0, 0.0}, {2.0, 1.0}}, p.scribble);
 }
 
 int CleanupSession::addStroke(const Stroke& stroke, StrokeKind kind) {
     validateStroke(stroke);
-    if (!(strokeLength(stroke) > 0.0))
+    StrokeReport report;
+    report.samples = stroke.samples.size();
+    report.length = strokeLength(stroke);
+    if (!(report.length > 0.0))
         throw std::invalid_argument("CleanupSession::addStroke: stroke has zero length");
+    const CleanupLimits& limits = params_.limits;
+    report.spacing = boundedSpacing(report.length, params_.resampleSpacing, limits.maxStrokePoints);
+    report.coarsened = report.spacing > params_.resampleSpacing;
+    const Polyline2 poly =
+        strokePositions(resampleByArcLength(stroke, report.spacing, limits.maxStrokePoints));
+    report.points = poly.size();
+    if (kind == StrokeKind::Curve) {
+        // Asking for one more than the cap tells whether the cap cut anything off.
+        const std::size_t features = featurePoints(poly, limits.maxFeaturePoints + 1).size();
+        report.featuresCapped = features > limits.maxFeaturePoints;
+        report.featurePoints = std::min(features, limits.maxFeaturePoints);
+    }
+    report.scribble = params_.ignoreScribbles && isScribble(stroke, params_.scribble);
+    if (report.coarsened)
+        report.note = "resampled every " + number(report.spacing) + " mm instead of " +
+                      number(params_.resampleSpacing) + " mm: " + number(report.length) +
+                      " mm of ink exceeds the " + std::to_string(limits.maxStrokePoints) +
+                      "-point limit";
+    if (report.featuresCapped)
+        report.note += std::string(report.note.empty() ? "" : "; ") + "feature points cut to " +
+                       std::to_string(limits.maxFeaturePoints) + " (limit), the largest kept";
     if (!pending_.empty()) {
         const bool kindChange = kinds_[std::size_t(pending_.front())] != kind;
         const bool paused = params_.trigger == CleanupTrigger::PauseTime &&
@@ -54,7 +136,11 @@ int CleanupSession::addStroke(const Stroke& stroke, StrokeKind kind) {
         if (kindChange || paused) endGroup();
     }
     const int id = int(strokes_.size());
+    reports_.reserve(reports_.size() + 1);
+    kinds_.reserve(kinds_.size() + 1);
+    pending_.reserve(pending_.size() + 1);
     strokes_.push_back(stroke);
+    reports_.push_back(std::move(report));
     kinds_.push_back(kind);
     pending_.push_back(id);
     lastEnd_ = stroke.samples.back().time;
@@ -88,6 +174,10 @@ std::vector<CleanCurve> CleanupSession::previewPending() const {
         out.push_back(e.cur());
     }
     return out;
+}
+
+const StrokeReport& CleanupSession::strokeReport(int strokeId) const {
+    return reports_.at(std::size_t(strokeId));
 }
 
 StrokeKind CleanupSession::strokeKind(int strokeId) const {
@@ -140,8 +230,9 @@ int CleanupSession::restartFromStroke(int curveId, int strokeId) {
     } else {
         Polyline2 knots;
         bool closed = false;
-        buildCurve({strokeId}, knots, closed);
+        std::string note = buildCurve({strokeId}, knots, closed);
         curve = makeCurve(curveId, kind, std::move(knots), closed, {strokeId});
+        curve.limitNote = std::move(note);
     }
     e.versions.push_back(std::make_shared<const CleanCurve>(std::move(curve)));
     e.current = int(e.versions.size()) - 1;
@@ -149,8 +240,36 @@ int CleanupSession::restartFromStroke(int curveId, int strokeId) {
 }
 
 Polyline2 CleanupSession::resampled(int strokeId) const {
+    const std::size_t i = std::size_t(strokeId);
     return strokePositions(
-        resampleByArcLength(strokes_[std::size_t(strokeId)], params_.resampleSpacing));
+        resampleByArcLength(strokes_[i], reports_[i].spacing, params_.limits.maxStrokePoints));
+}
+
+Polyline2 CleanupSession::featurePoints(const Polyline2& poly, std::size_t maxPoints) const {
+    return strokeFeaturePoints(poly, params_.featureChordRatio, maxPoints);
+}
+
+std::string CleanupSession::capKnots(Polyline2& knots, bool closed) const {
+    const std::size_t cap = params_.limits.maxCurveKnots;
+    if (knots.size() <= cap) return {};
+    const std::size_t before = knots.size();
+    Polyline2 kept;
+    try {
+        // Knot division is what smoothing does anyway; it keeps the shape better than thinning.
+        const Polyline2 curve = sampleNaturalSpline(knots, closed, params_.samplesPerSpan);
+        std::size_t wanted = 0;
+        for (std::size_t i : divideWithin(curve, closed, params_.knots, cap, wanted))
+            kept.push_back(curve[i]);
+    } catch (const std::invalid_argument&) {
+        kept.clear();  // coincident knots: no spline through them, thin them instead
+    }
+    knots = kept.size() >= (closed ? 3u : 2u) ? std::move(kept) : thinEvenly(knots, cap, closed);
+    return knotCapNote(before, knots.size());
+}
+
+std::string CleanupSession::knotCapNote(std::size_t before, std::size_t after) const {
+    return "curve simplified from " + std::to_string(before) + " to " + std::to_string(after) +
+           " knots (limit " + std::to_string(params_.limits.maxCurveKnots) + ")";
 }
 
 CleanCurve CleanupSession::makeCurve(int id, StrokeKind kind, Polyline2 knots, bool closed,
@@ -168,9 +287,16 @@ CleanCurve CleanupSession::makeCurve(int id, StrokeKind kind, Polyline2 knots, b
     return c;
 }
 
-void CleanupSession::buildCurve(const std::vector<int>& strokeIds, Polyline2& knots,
-                                bool& closed) const {
+std::string CleanupSession::buildCurve(const std::vector<int>& strokeIds, Polyline2& knots,
+                                       bool& closed) const {
+    std::string note = capKnots(knots, closed);
+    const auto cap = [&] {
+        std::string n = capKnots(knots, closed);
+        if (!n.empty()) note = std::move(n);
+    };
     const Polyline2 original = knots;
+    // A loop's two halves share the feature-point limit.
+    const std::size_t halfCap = params_.limits.maxFeaturePoints / 2 + 1;
     // A loop in one stroke: three points cannot describe it, so take the feature points of its
     // two halves (split at the point farthest from the start).
     auto loopKnots = [&](Polyline2 poly) {
@@ -180,8 +306,8 @@ void CleanupSession::buildCurve(const std::vector<int>& strokeIds, Polyline2& kn
             if (glm::distance(poly[k], poly[0]) > glm::distance(poly[far], poly[0])) far = k;
         const Polyline2 first(poly.begin(), poly.begin() + std::ptrdiff_t(far) + 1);
         const Polyline2 second(poly.begin() + std::ptrdiff_t(far), poly.end());
-        Polyline2 out = strokeFeaturePoints(first, params_.featureChordRatio);
-        const Polyline2 f2 = strokeFeaturePoints(second, params_.featureChordRatio);
+        Polyline2 out = featurePoints(first, halfCap);
+        const Polyline2 f2 = featurePoints(second, halfCap);
         // f2's first point is the split point, its last returns to the start.
         out.insert(out.end(), f2.begin() + 1, f2.end() - 1);
         return out;
@@ -206,6 +332,7 @@ void CleanupSession::buildCurve(const std::vector<int>& strokeIds, Polyline2& kn
                 }
             }
             knots = std::move(newer);
+            cap();
             continue;
         }
         if (knots.size() < 2) {
@@ -213,15 +340,19 @@ void CleanupSession::buildCurve(const std::vector<int>& strokeIds, Polyline2& kn
                 knots = loopKnots(poly);
                 closed = true;
             } else {
-                knots = strokeFeaturePoints(poly, params_.featureChordRatio);
+                knots = featurePoints(poly, params_.limits.maxFeaturePoints);
                 closed = false;
             }
+            cap();
             continue;
         }
         JoinResult joined = joinFeaturePoints(
-            knots, closed, strokeFeaturePoints(poly, params_.featureChordRatio), params_.join);
+            knots, closed, featurePoints(poly, params_.limits.maxFeaturePoints), params_.join);
         knots = std::move(joined.points);
         if (joined.overlap == Overlap::Closes) closed = true;
+        // Chained strokes add their points each time; without the cap a long group would make
+        // every later join and the final smoothing ever more expensive.
+        cap();
     }
     if (!closed && knots.size() >= 4) {
         const Polyline2 curve = sampleNaturalSpline(knots, false, params_.samplesPerSpan);
@@ -232,7 +363,7 @@ void CleanupSession::buildCurve(const std::vector<int>& strokeIds, Polyline2& kn
                 knots.pop_back();
         }
     }
-    if (!params_.smooth || knots.size() < (closed ? 4u : 3u)) return;
+    if (!params_.smooth || knots.size() < (closed ? 4u : 3u)) return note;
     const Polyline2 curve = sampleNaturalSpline(knots, closed, params_.samplesPerSpan);
     const std::size_t sps = std::size_t(params_.samplesPerSpan);
     const bool unmerged =
@@ -246,7 +377,7 @@ void CleanupSession::buildCurve(const std::vector<int>& strokeIds, Polyline2& kn
                 lo = std::min(lo, i);
                 hi = std::max(hi, i);
             }
-        if (lo > hi) return;  // nothing new survived
+        if (lo > hi) return note;  // nothing new survived
         lo = lo > 0 ? lo - 1 : 0;
         hi = std::min(hi + 1, knots.size() - 1);
         if (!closed || lo > 0 || hi < knots.size() - 1) {
@@ -256,14 +387,23 @@ void CleanupSession::buildCurve(const std::vector<int>& strokeIds, Polyline2& kn
             for (std::size_t i : knotDivision(stretch, false, params_.knots))
                 result.push_back(stretch[i]);
             result.insert(result.end(), knots.begin() + std::ptrdiff_t(hi) + 1, knots.end());
-            if (result.size() >= (closed ? 3u : 2u)) knots = std::move(result);
-            return;
+            // Too many: smooth the whole curve below, where the limit can be applied evenly.
+            if (result.size() <= params_.limits.maxCurveKnots) {
+                if (result.size() >= (closed ? 3u : 2u)) knots = std::move(result);
+                return note;
+            }
         }
     }
+    // Knot division picks among the spline samples, up to samplesPerSpan per knot on a wavy
+    // curve, so it can return more knots than it was given.
+    std::size_t wanted = 0;
     Polyline2 kept;
-    for (std::size_t i : knotDivision(curve, closed, params_.knots))
+    for (std::size_t i :
+         divideWithin(curve, closed, params_.knots, params_.limits.maxCurveKnots, wanted))
         kept.push_back(curve[i]);
+    if (wanted > kept.size()) note = knotCapNote(wanted, kept.size());
     if (kept.size() >= (closed ? 3u : 2u)) knots = std::move(kept);
+    return note;
 }
 
 Polyline2 CleanupSession::anchoredKnots(const CleanCurve& cur, const std::vector<int>& ids) const {
@@ -296,6 +436,9 @@ Polyline2 CleanupSession::anchoredKnots(const CleanCurve& cur, const std::vector
             const detail::Projection q = detail::project(path, end);
             if (q.distance > params_.join.overlapDistance || q.atStart || q.atEnd) continue;
             for (double s : {q.s - 3.0 * margin, q.s - margin, q.s + margin, q.s + 3.0 * margin}) {
+                // Pins cost a crowding test against every knot; a group of thousands of strokes
+                // would make that quadratic, and buildCurve would cap the knots anyway.
+                if (knots.size() >= params_.limits.maxCurveKnots) break;
                 const auto [sAt, p] = pointAt(s);
                 const bool crowded = std::any_of(knots.begin(), knots.end(), [&](const auto& k) {
                     return glm::distance(k.second, p) < params_.join.mergeDistance;
@@ -359,8 +502,7 @@ std::vector<int> CleanupSession::cleanGroup(const std::vector<int>& group,
                                             std::vector<Entry>& history) const {
     std::vector<int> ids;
     for (int id : group)
-        if (!params_.ignoreScribbles || !isScribble(strokes_[std::size_t(id)], params_.scribble))
-            ids.push_back(id);
+        if (!reports_[std::size_t(id)].scribble) ids.push_back(id);
     std::vector<int> touched;
     if (ids.empty()) return touched;
     if (kinds_[std::size_t(ids.front())] == StrokeKind::Line) {
@@ -370,11 +512,18 @@ std::vector<int> CleanupSession::cleanGroup(const std::vector<int>& group,
     }
 
     // Which existing curve, if any, does the group correct? The one most of its ink lies on.
+    // Each ink point is projected onto every nearby curve, so a huge group tests every k-th.
+    std::size_t inkTotal = 0;
+    for (int id : ids)
+        inkTotal += reports_[std::size_t(id)].points;
+    const std::size_t stride = std::max<std::size_t>(
+        1, (inkTotal + params_.limits.maxGroupInkPoints - 1) / params_.limits.maxGroupInkPoints);
     std::vector<glm::dvec2> ink;
-    for (int id : ids) {
-        const Polyline2 p = resampled(id);
-        ink.insert(ink.end(), p.begin(), p.end());
-    }
+    ink.reserve(std::min(inkTotal, params_.limits.maxGroupInkPoints));
+    std::size_t inkIndex = 0;
+    for (int id : ids)
+        for (const glm::dvec2& p : resampled(id))
+            if (inkIndex++ % stride == 0) ink.push_back(p);
     glm::dvec2 inkLo = ink.front(), inkHi = ink.front();
     for (const glm::dvec2& p : ink) {
         inkLo = glm::min(inkLo, p);
@@ -414,15 +563,16 @@ std::vector<int> CleanupSession::cleanGroup(const std::vector<int>& group,
         closed = cur.closed;
         strokeIds = cur.strokes;
     }
-    buildCurve(ids, knots, closed);
+    std::string note = buildCurve(ids, knots, closed);
     strokeIds.insert(strokeIds.end(), ids.begin(), ids.end());
     if (target < 0) {
         target = int(history.size());
         history.push_back({});
     }
     Entry& e = history[std::size_t(target)];
-    e.versions.push_back(std::make_shared<const CleanCurve>(
-        makeCurve(target, StrokeKind::Curve, std::move(knots), closed, strokeIds)));
+    CleanCurve next = makeCurve(target, StrokeKind::Curve, std::move(knots), closed, strokeIds);
+    next.limitNote = std::move(note);
+    e.versions.push_back(std::make_shared<const CleanCurve>(std::move(next)));
     e.current = int(e.versions.size()) - 1;
     touched.push_back(target);
     return touched;

@@ -2,7 +2,10 @@
 
 #include "CleanupGeometry.h"
 
+#include <algorithm>
+#include <queue>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -24,31 +27,50 @@ std::pair<std::size_t, double> farthest(const Polyline2& stroke, std::size_t i0,
     return best;
 }
 
-void refine(const Polyline2& stroke, std::size_t i0, std::size_t i1, double ratio,
-            std::vector<std::size_t>& out) {
-    if (i1 - i0 < 2) return;
-    const auto [k, d] = farthest(stroke, i0, i1);
-    if (!(d > ratio * glm::distance(stroke[i0], stroke[i1]))) return;
-    refine(stroke, i0, k, ratio, out);
-    out.push_back(k);
-    refine(stroke, k, i1, ratio, out);
-}
+// A piece that qualifies for a split: its deviation, then its range (ties go to the earlier
+// piece, so the order is deterministic).
+struct Piece {
+    double deviation;
+    std::size_t i0, i1, split;
+    bool operator<(const Piece& o) const {
+        return std::tie(deviation, o.i0) < std::tie(o.deviation, i0);
+    }
+};
 
 }  // namespace
 
-Polyline2 strokeFeaturePoints(const Polyline2& stroke, double maxChordRatio) {
+Polyline2 strokeFeaturePoints(const Polyline2& stroke, double maxChordRatio,
+                              std::size_t maxPoints) {
     detail::requireFinite(stroke, "strokeFeaturePoints");
     if (stroke.size() < 2) throw std::invalid_argument("strokeFeaturePoints: need 2 points");
     if (!(maxChordRatio >= 0.0))
         throw std::invalid_argument("strokeFeaturePoints: maxChordRatio must be >= 0");
+    if (maxPoints < 3) throw std::invalid_argument("strokeFeaturePoints: maxPoints must be >= 3");
     if (maxChordRatio > 0.0 && stroke.size() > 2) {
         const std::size_t mid = farthest(stroke, 0, stroke.size() - 1).first;
-        std::vector<std::size_t> idx{0};
-        refine(stroke, 0, mid, maxChordRatio, idx);
-        idx.push_back(mid);
-        refine(stroke, mid, stroke.size() - 1, maxChordRatio, idx);
-        idx.push_back(stroke.size() - 1);
+        std::vector<std::size_t> idx{0, mid, stroke.size() - 1};
+        // Whether a piece is split depends only on the piece, so splitting the most deviant
+        // first yields the same points as depth-first recursion whenever the cap is not hit,
+        // and keeps the most visible shape when it is.
+        std::priority_queue<Piece> queue;
+        const auto consider = [&](std::size_t i0, std::size_t i1) {
+            if (i1 - i0 < 2) return;
+            const auto [k, d] = farthest(stroke, i0, i1);
+            if (d > maxChordRatio * glm::distance(stroke[i0], stroke[i1]))
+                queue.push({d, i0, i1, k});
+        };
+        consider(0, mid);
+        consider(mid, stroke.size() - 1);
+        while (!queue.empty() && idx.size() < maxPoints) {
+            const Piece p = queue.top();
+            queue.pop();
+            idx.push_back(p.split);
+            consider(p.i0, p.split);
+            consider(p.split, p.i1);
+        }
+        std::sort(idx.begin(), idx.end());
         Polyline2 out;
+        out.reserve(idx.size());
         for (std::size_t i : idx)
             out.push_back(stroke[i]);
         return out;

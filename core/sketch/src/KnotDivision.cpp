@@ -4,7 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 namespace vsculpt::sketch {
 
@@ -14,26 +17,22 @@ namespace {
 // stretch wobble in sign at rounding level.
 constexpr double kMinTurn = 1e-6;
 
-void divide(const Polyline2& c, std::size_t i0, std::size_t i1, double eps,
-            std::vector<std::size_t>& keep) {
-    if (i1 - i0 < 2) return;
+// Where to split c[i0..i1], or nullopt to keep no interior point. `d` is scratch space.
+std::optional<std::size_t> splitPoint(const Polyline2& c, std::size_t i0, std::size_t i1,
+                                      double eps, std::vector<double>& d) {
+    if (i1 - i0 < 2) return std::nullopt;
     const glm::dvec2 p1 = c[i0], p2 = c[i1];
     const double len = glm::distance(p1, p2);
-    const auto splitAt = [&](std::size_t k) {
-        keep.push_back(k);
-        divide(c, i0, k, eps, keep);
-        divide(c, k, i1, eps, keep);
-    };
     if (len <= 0.0) {
         // Interval returns to its start: split at the farthest point so both halves have chords.
         std::size_t far = i0 + 1;
         for (std::size_t k = i0 + 1; k < i1; ++k)
             if (glm::distance(c[k], p1) > glm::distance(c[far], p1)) far = k;
-        if (glm::distance(c[far], p1) > 0.0) splitAt(far);
-        return;
+        if (glm::distance(c[far], p1) > 0.0) return far;
+        return std::nullopt;
     }
     const glm::dvec2 dir = (p2 - p1) / len;
-    std::vector<double> d(i1 - i0 + 1, 0.0);
+    d.assign(i1 - i0 + 1, 0.0);
     double posMax = 0.0, negMax = 0.0;
     std::size_t farthest = i0 + 1;
     for (std::size_t k = i0 + 1; k < i1; ++k) {
@@ -42,7 +41,7 @@ void divide(const Polyline2& c, std::size_t i0, std::size_t i1, double eps,
         negMax = std::max(negMax, -d[k - i0]);
         if (std::abs(d[k - i0]) > std::abs(d[farthest - i0])) farthest = k;
     }
-    if (std::max(posMax, negMax) <= eps * len) return;  // straight enough: drop interior points
+    if (std::max(posMax, negMax) <= eps * len) return std::nullopt;  // straight enough
 
     // (a) The curve crosses its chord, clearly on both sides: split at the first crossing.
     if (posMax > eps * len && negMax > eps * len) {
@@ -53,12 +52,8 @@ void divide(const Polyline2& c, std::size_t i0, std::size_t i1, double eps,
                 if (v != 0.0) firstSign = v;
                 continue;
             }
-            if (v * firstSign <= 0.0) {
-                const std::size_t split =
-                    (k - 1 > i0 && std::abs(d[k - 1 - i0]) < std::abs(v)) ? k - 1 : k;
-                splitAt(split);
-                return;
-            }
+            if (v * firstSign <= 0.0)
+                return (k - 1 > i0 && std::abs(d[k - 1 - i0]) < std::abs(v)) ? k - 1 : k;
         }
     }
     // (b) An inflection inside: split at the smallest interior local minimum of |d|.
@@ -79,13 +74,28 @@ void divide(const Polyline2& c, std::size_t i0, std::size_t i1, double eps,
                 (best == 0 || v < std::abs(d[best - i0])))
                 best = k;
         }
-        if (best != 0) {
-            splitAt(best);
-            return;
-        }
+        if (best != 0) return best;
     }
     // (c) Kondo's knot extraction: keep the farthest point, h / L > eps here.
-    splitAt(farthest);
+    return farthest;
+}
+
+// Splits c[i0..i1] until every interval is straight enough. An explicit stack and one scratch
+// buffer: recursion kept each level's distances alive, so a curve split near one end every
+// time (a zigzag) needed memory quadratic in its length and a stack as deep as its points.
+void divide(const Polyline2& c, std::size_t i0, std::size_t i1, double eps,
+            std::vector<std::size_t>& keep) {
+    std::vector<std::pair<std::size_t, std::size_t>> todo{{i0, i1}};
+    std::vector<double> scratch;
+    while (!todo.empty()) {
+        const auto [a, b] = todo.back();
+        todo.pop_back();
+        const std::optional<std::size_t> k = splitPoint(c, a, b, eps, scratch);
+        if (!k) continue;
+        keep.push_back(*k);
+        todo.push_back({*k, b});
+        todo.push_back({a, *k});
+    }
 }
 
 }  // namespace

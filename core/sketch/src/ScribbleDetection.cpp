@@ -15,6 +15,7 @@ void requireParams(const ScribbleParams& p) {
     if (!(p.spacing > 0.0 && p.reversalAngle > 0.0 && p.reversalWindow > 0.0 &&
           p.minReversals > 0 && p.minInkRatio > 0.0))
         throw std::invalid_argument("isScribble: parameters must be positive");
+    if (p.maxPoints < 4) throw std::invalid_argument("isScribble: maxPoints must be >= 4");
 }
 
 }  // namespace
@@ -23,11 +24,13 @@ int countReversals(const Polyline2& line, const ScribbleParams& params) {
     detail::requireFinite(line, "countReversals");
     requireParams(params);
     if (line.size() < 3) return 0;
-    const Polyline2 pts = resampleByArcLength(line, params.spacing);
+    const double spacing = boundedSpacing(length(line, false), params.spacing, params.maxPoints);
+    const Polyline2 pts = resampleByArcLength(line, spacing, params.maxPoints);
     // Signed turns at each resampled vertex; a reversal is a same-signed turn total of at least
     // reversalAngle within the window (then the window restarts so one hairpin counts once).
+    // At least two vertices: a sharp corner between samples splits its turn over two.
     const std::size_t window =
-        std::max<std::size_t>(1, std::size_t(params.reversalWindow / params.spacing));
+        std::max<std::size_t>(2, std::size_t(params.reversalWindow / spacing));
     std::deque<double> recent;
     double sum = 0.0;
     int reversals = 0;

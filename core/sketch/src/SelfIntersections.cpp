@@ -38,11 +38,12 @@ std::optional<Hit> intersect(const glm::dvec2& a0, const glm::dvec2& a1, const g
 
 }  // namespace
 
-std::vector<SelfIntersection> findSelfIntersections(const Polyline2& line, bool closed) {
+std::vector<SelfIntersection> findSelfIntersections(const Polyline2& line, bool closed,
+                                                    std::size_t maxCount) {
     detail::requireFinite(line, "findSelfIntersections");
     std::vector<SelfIntersection> out;
     const std::size_t n = line.size();
-    if (n < 3) return out;
+    if (n < 3 || maxCount == 0) return out;
     const std::size_t segs = closed ? n : n - 1;
     auto endA = [&](std::size_t i) { return line[i]; };
     auto endB = [&](std::size_t i) { return line[(i + 1) % n]; };
@@ -61,6 +62,7 @@ std::vector<SelfIntersection> findSelfIntersections(const Polyline2& line, bool 
             if (const auto hit = intersect(endA(i), endB(i), endA(j), endB(j))) {
                 const glm::dvec2 p = endA(i) + hit->tA * (endB(i) - endA(i));
                 out.push_back({i, j, hit->tA, hit->tB, p});
+                if (out.size() >= maxCount) return out;
             }
         }
     }
@@ -68,7 +70,7 @@ std::vector<SelfIntersection> findSelfIntersections(const Polyline2& line, bool 
 }
 
 bool hasSelfIntersection(const Polyline2& line, bool closed) {
-    return !findSelfIntersections(line, closed).empty();
+    return !findSelfIntersections(line, closed, 1).empty();
 }
 
 }  // namespace vsculpt::sketch

@@ -339,7 +339,7 @@ PolyMesh sweepSectionAlongPath(const Polyline2& section, const Polyline2& path,
     for (const glm::dvec2& q : path)
         if (distinct.empty() || q != distinct.back()) distinct.push_back(q);
     if (distinct.size() < 2) sweepFail("sweep path needs at least 2 distinct points");
-    const auto crossings = findSelfIntersections(distinct, false);
+    const auto crossings = findSelfIntersections(distinct, false, 1);  // only the first is named
     if (!crossings.empty())
         sweepFail("sweep path crosses itself at " + pointText(crossings.front().point));
     const double pathLength = length(distinct, false);

@@ -16,7 +16,12 @@ void validateStroke(const Stroke& stroke) {
         const std::string at = " at sample " + std::to_string(i);
         if (!detail::finite(s.position))
             throw std::invalid_argument("stroke: non-finite position" + at);
+        if (std::abs(s.position.x) > kMaxStrokeCoordinate ||
+            std::abs(s.position.y) > kMaxStrokeCoordinate)
+            throw std::invalid_argument("stroke: position outside [-1e6, 1e6] mm" + at);
         if (!std::isfinite(s.time)) throw std::invalid_argument("stroke: non-finite time" + at);
+        if (std::abs(s.time) > kMaxStrokeTime)
+            throw std::invalid_argument("stroke: time outside [-1e10, 1e10] s" + at);
         if (i > 0 && s.time < stroke.samples[i - 1].time)
             throw std::invalid_argument("stroke: time goes backwards" + at);
         if (stroke.hasPressure && !(s.pressure >= 0.0 && s.pressure <= 1.0))

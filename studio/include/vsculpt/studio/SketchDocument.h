@@ -3,9 +3,9 @@
 // builders, undo/redo per page and a JSON file format. Pure C++: no GL, no devices, no clock;
 // the window, playback scripts and tests drive it with calls and read draw data back.
 //
-// Frames and units: canvas space is millimetres, x right, y up, unbounded. View space is
-// millimetres on the tablet/screen surface. canvasFromView is a uniform scale plus an offset.
-// Times are seconds on the caller's clock, pressure 0..1, tilt in degrees.
+// Frames and units: canvas space is millimetres, x right, y up, within +-1e6 mm (SketchLimits).
+// View space is millimetres on the tablet/screen surface. canvasFromView is a uniform scale
+// plus an offset. Times are seconds on the caller's clock, pressure 0..1, tilt in degrees.
 //
 // Undo model (docs/sketch-mode.md): every page keeps a log of actions. A new action is applied
 // and appended; undo moves the last action to the redo stack and rebuilds the page by replaying
@@ -47,8 +47,10 @@ using sketch::StrokeKind;
 struct SketchLimits {
     /// |x|, |y| of any canvas point (mm): 1 km, as for the sculpture (core::isUsablePoint).
     static constexpr double maxCanvasMm = sketch::kMaxStrokeCoordinate;
-    /// |x|, |y| of a view point (mm on the tablet or screen).
-    static constexpr double maxViewMm = 1e6;
+    /// |x|, |y| of a view point (mm on the tablet or screen): 1000 km, beyond any surface, so
+    /// that a script drawing at the canvas edge through a view zoomed in 1000 times still
+    /// works; the canvas bound is what limits ink.
+    static constexpr double maxViewMm = 1e9;
     /// canvasFromView scale (canvas mm per view mm) and |offset| (canvas mm).
     static constexpr double minViewScale = 1e-9, maxViewScale = 1e9;
     static constexpr double maxViewOffsetMm = 1e9;

@@ -18,6 +18,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace vsculpt::sketch {
@@ -31,6 +32,27 @@ enum class CleanupTrigger {
 
 /// The user says whether a stroke is a straight line or a curve (seed: no automatic choice).
 enum class StrokeKind { Line, Curve };
+
+/// Bounds on the work one stroke, one curve and one group can cost, so that no input (a stroke
+/// of 1e6 mm zigzags, thousands of overdrawn strokes) makes the session allocate or compute
+/// without bound. Normal drawing stays far below every one of them, and then the results are
+/// exactly those without limits. Beyond a limit the session simplifies its working copy of the
+/// input and says so (StrokeReport::note, CleanCurve::limitNote); it never refuses a stroke.
+/// docs/sketch-cleanup.md, "Limits", has the reasoning and measurements.
+struct CleanupLimits {
+    /// Points per stroke after arc-length resampling (>= 16). A stroke longer than about
+    /// maxStrokePoints * resampleSpacing (2 m of ink at 0.5 mm) is resampled at a wider step.
+    std::size_t maxStrokePoints = 4096;
+    /// Feature points per stroke (>= 4; only featureChordRatio > 0 gives more than three).
+    /// Beyond, the pieces farthest off their chords are split first.
+    std::size_t maxFeaturePoints = 64;
+    /// Knots per curve (>= 8). Joining beyond it re-chooses the knots by knot division and, if
+    /// still too many, keeps evenly spaced ones.
+    std::size_t maxCurveKnots = 256;
+    /// Ink points of one group tested against existing curves to find the one it corrects
+    /// (>= 16); beyond, every k-th point is tested.
+    std::size_t maxGroupInkPoints = 8192;
+};
 
 struct CleanupParams {
     CleanupTrigger trigger = CleanupTrigger::PauseTime;
@@ -61,13 +83,28 @@ struct CleanupParams {
     double attachFraction = 0.5;
     /// Resampling step (mm) of strokes before feature extraction and fitting.
     double resampleSpacing = 0.5;
-    /// Density of the output polylines.
+    /// Density of the output polylines (1..256; join.samplesPerSpan has the same range).
     int samplesPerSpan = 16;
     /// Closed-loop detection for new curves.
     ClosednessParams closedness;
     /// Scribbles (ScribbleDetection.h) are kept as strokes but never cleaned up.
     bool ignoreScribbles = true;
     ScribbleParams scribble;
+    CleanupLimits limits;
+};
+
+/// What the session made of one stroke, and which limits (CleanupLimits) it hit.
+struct StrokeReport {
+    std::size_t samples = 0;        // as drawn
+    double length = 0.0;            // mm
+    double spacing = 0.0;           // resampling step used (mm)
+    std::size_t points = 0;         // after resampling, <= limits.maxStrokePoints
+    std::size_t featurePoints = 0;  // curve strokes, drawn open; <= limits.maxFeaturePoints
+    bool scribble = false;          // never cleaned up when ignoreScribbles
+    bool coarsened = false;         // spacing > resampleSpacing (maxStrokePoints)
+    bool featuresCapped = false;    // more feature points qualified (maxFeaturePoints)
+    /// The limits that applied, in words; empty when none did.
+    std::string note;
 };
 
 /// One version of a clean line or curve.
@@ -82,12 +119,15 @@ struct CleanCurve {
     Polyline2 samples;
     /// Ids of the strokes this version was built from, in drawing order.
     std::vector<int> strokes;
+    /// Empty, or why this version has fewer knots than its strokes asked for
+    /// (limits.maxCurveKnots).
+    std::string limitNote;
 };
 
 class CleanupSession {
   public:
     /// Throws std::invalid_argument for non-positive pauseSeconds, samplesPerSpan or spacing,
-    /// or thresholds outside their ranges.
+    /// or thresholds and limits outside their ranges.
     explicit CleanupSession(CleanupParams params = {});
 
     /// Adds a finished stroke (pen up) and returns its id (0, 1, ... in call order). With
@@ -95,7 +135,8 @@ class CleanupSession {
     /// first cleans up the pending group; a change of kind always does. With Pressure, a stroke
     /// whose peak pressure reaches the threshold is added and then the group is cleaned up.
     /// Throws std::invalid_argument for an invalid stroke (validateStroke) or a stroke shorter
-    /// than two distinct points; the session is unchanged then.
+    /// than two distinct points; the session is unchanged then. Any valid stroke is accepted:
+    /// params().limits bound what it costs, and strokeReport(id) says which limits applied.
     int addStroke(const Stroke& stroke, StrokeKind kind);
 
     /// Clock tick for PauseTime: cleans up when `now` is pauseSeconds or more after the last
@@ -111,6 +152,9 @@ class CleanupSession {
 
     /// Every stroke ever added, indexed by stroke id.
     const std::vector<Stroke>& strokes() const { return strokes_; }
+    /// Sizes of a stroke's working copies and the limits it hit. Throws std::out_of_range for a
+    /// bad id.
+    const StrokeReport& strokeReport(int strokeId) const;
     StrokeKind strokeKind(int strokeId) const;
     /// Stroke ids waiting for the trigger, in drawing order.
     const std::vector<int>& pendingStrokes() const { return pending_; }
@@ -154,16 +198,23 @@ class CleanupSession {
     void cleanLineStroke(int strokeId, std::vector<Entry>& history,
                          std::vector<int>& touched) const;
     // Joins the strokes' feature points onto `knots` (empty for a new curve) and smooths.
-    void buildCurve(const std::vector<int>& strokeIds, Polyline2& knots, bool& closed) const;
+    // Returns CleanCurve::limitNote.
+    std::string buildCurve(const std::vector<int>& strokeIds, Polyline2& knots, bool& closed) const;
     CleanCurve makeCurve(int id, StrokeKind kind, Polyline2 knots, bool closed,
                          std::vector<int> strokeIds) const;
     Polyline2 resampled(int strokeId) const;
+    Polyline2 featurePoints(const Polyline2& poly, std::size_t maxPoints) const;
+    // Brings a curve's knots within limits.maxCurveKnots; returns the note, empty when they were
+    // within it.
+    std::string capKnots(Polyline2& knots, bool closed) const;
+    std::string knotCapNote(std::size_t before, std::size_t after) const;
     // The curve's knots plus points of the curve just outside where the strokes' ends land on
     // it, so a correction cannot pull the curve beyond the part it overlaps.
     Polyline2 anchoredKnots(const CleanCurve& cur, const std::vector<int>& strokeIds) const;
 
     CleanupParams params_;
     std::vector<Stroke> strokes_;
+    std::vector<StrokeReport> reports_;
     std::vector<StrokeKind> kinds_;
     std::vector<int> pending_;
     double lastEnd_ = 0.0;

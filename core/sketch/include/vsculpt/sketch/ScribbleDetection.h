@@ -5,6 +5,8 @@
 #include "vsculpt/sketch/Polyline.h"
 #include "vsculpt/sketch/Stroke.h"
 
+#include <cstddef>
+
 namespace vsculpt::sketch {
 
 struct ScribbleParams {
@@ -17,6 +19,9 @@ struct ScribbleParams {
     int minReversals = 4;
     /// ... and the ink length is at least this multiple of the bounding-box diagonal.
     double minInkRatio = 3.0;
+    /// Most resampled points examined (>= 4): a stroke longer than about maxPoints * spacing
+    /// is resampled at a wider step, so the cost stays bounded (4 m of ink at 1 mm).
+    std::size_t maxPoints = 4096;
 };
 
 /// Number of direction reversals as defined by ScribbleParams.

@@ -16,14 +16,21 @@ struct SelfIntersection {
     glm::dvec2 point{0.0};  // mm
 };
 
-/// All crossings between non-adjacent segments, ordered by (segmentA, segmentB). When `closed`
+/// Default bound on the crossings returned: a stroke overdrawn back and forth on itself has
+/// crossings quadratic in its points (a 4000-point zigzag, millions), none of them useful.
+inline constexpr std::size_t kMaxSelfIntersections = 10'000;
+
+/// Crossings between non-adjacent segments, ordered by (segmentA, segmentB): the first
+/// maxCount of them (when the result has maxCount entries there may be more). When `closed`
 /// the segment from the last point back to the first is included and it is adjacent to segment
 /// 0. Collinear overlaps report one intersection at the start of the shared part. Zero-length
-/// segments are skipped. O(n^2) with bounding-box rejection: meant for single strokes (a few
-/// hundred points). Throws std::invalid_argument for non-finite points.
-std::vector<SelfIntersection> findSelfIntersections(const Polyline2& line, bool closed);
+/// segments are skipped. O(n^2) time with bounding-box rejection, memory O(n + maxCount):
+/// meant for single strokes (a few thousand points). Throws std::invalid_argument for
+/// non-finite points.
+std::vector<SelfIntersection> findSelfIntersections(const Polyline2& line, bool closed,
+                                                    std::size_t maxCount = kMaxSelfIntersections);
 
-/// True when findSelfIntersections would return anything.
+/// True when findSelfIntersections would return anything (stops at the first crossing).
 bool hasSelfIntersection(const Polyline2& line, bool closed);
 
 }  // namespace vsculpt::sketch

@@ -23,8 +23,16 @@ struct Stroke {
     bool hasPressure = false;  // false for mice and pens without pressure
 };
 
-/// Throws std::invalid_argument naming the first problem: no samples, a non-finite position or
-/// time, time going backwards, or (when hasPressure) a pressure outside [0, 1] or NaN.
+/// Largest |x| or |y| of a stroke sample (mm): 1 km, the bound the sculpture's points have too
+/// (core::isUsablePoint). Far beyond any drawing, and small enough that lengths and differences
+/// of canvas points never overflow.
+inline constexpr double kMaxStrokeCoordinate = 1.0e6;
+/// Largest |time| of a stroke sample (s): 317 years, so seconds since the Unix epoch fit.
+inline constexpr double kMaxStrokeTime = 1.0e10;
+
+/// Throws std::invalid_argument naming the first problem: no samples, a position or time that
+/// is not finite or beyond kMaxStrokeCoordinate / kMaxStrokeTime, time going backwards, or
+/// (when hasPressure) a pressure outside [0, 1] or NaN.
 void validateStroke(const Stroke& stroke);
 
 /// The sample positions as a polyline (mm).

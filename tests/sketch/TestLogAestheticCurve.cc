@@ -98,7 +98,7 @@ TEST(CurveCurvature, RefusesBadInput) {
                  std::invalid_argument);
     EXPECT_THROW(curveDifferential(Polyline2{{0, 0}, {1, 0}, {2, 1}}, 0), std::invalid_argument);
     EXPECT_THROW(curvatureGraph(Polyline2{{0, 0}, {1, 0}}), std::invalid_argument);
-    EXPECT_THROW(resampleByArcLength(Polyline2{{1, 1}, {1, 1}, {1, 1}}, 10), std::invalid_argument);
+    EXPECT_THROW(resampleByCount(Polyline2{{1, 1}, {1, 1}, {1, 1}}, 10), std::invalid_argument);
 }
 
 TEST(LogGraph, SlopeOfGeneratedPlanarCurves) {

@@ -57,7 +57,7 @@ TEST(ResampleStroke, EqualSpacingAndInterpolatedTimeAndPressure) {
     Stroke s;
     s.hasPressure = true;
     s.samples = {{{0, 0}, 0.0, 0.2}, {{10, 0}, 1.0, 0.6}, {{10, 5}, 3.0, 1.0}};
-    const Stroke r = resampleByArcLength(s, 1.0);
+    const Stroke r = resampleBySpacing(s, 1.0);
     ASSERT_EQ(r.samples.size(), 16u);
     for (std::size_t i = 0; i < r.samples.size(); ++i) {
         const double arcLen = double(i);
@@ -73,14 +73,14 @@ TEST(ResampleStroke, EqualSpacingAndInterpolatedTimeAndPressure) {
 }
 
 TEST(ResampleStroke, KeepsLastPointAndHandlesDegenerateInput) {
-    const Polyline2 line = resampleByArcLength(Polyline2{{0, 0}, {0, 0}, {3.5, 0}}, 1.0);
+    const Polyline2 line = resampleBySpacing(Polyline2{{0, 0}, {0, 0}, {3.5, 0}}, 1.0);
     ASSERT_EQ(line.size(), 5u);
     EXPECT_EQ(line.back(), glm::dvec2(3.5, 0));
-    EXPECT_EQ(resampleByArcLength(Polyline2{{2, 2}, {2, 2}}, 1.0).size(), 1u);
-    EXPECT_THROW(resampleByArcLength(Polyline2{}, 1.0), std::invalid_argument);
-    EXPECT_THROW(resampleByArcLength(Polyline2{{0, 0}, {1, 0}}, 0.0), std::invalid_argument);
+    EXPECT_EQ(resampleBySpacing(Polyline2{{2, 2}, {2, 2}}, 1.0).size(), 1u);
+    EXPECT_THROW(resampleBySpacing(Polyline2{}, 1.0), std::invalid_argument);
+    EXPECT_THROW(resampleBySpacing(Polyline2{{0, 0}, {1, 0}}, 0.0), std::invalid_argument);
     EXPECT_THROW(
-        resampleByArcLength(Polyline2{{0, 0}, {1, 0}}, std::numeric_limits<double>::quiet_NaN()),
+        resampleBySpacing(Polyline2{{0, 0}, {1, 0}}, std::numeric_limits<double>::quiet_NaN()),
         std::invalid_argument);
 }
 
@@ -191,11 +191,11 @@ TEST(ResampleStroke, TooFineAStepIsRefusedBeforeAllocating) {
     const Stroke across = makeStroke({{-1e6, 0}, {1e6, 0}});
     const double before = peakRssMb();
     // 2 million points at 1 mm: over the default bound of a million.
-    EXPECT_THROW(resampleByArcLength(across, 1.0), std::invalid_argument);
-    EXPECT_THROW(resampleByArcLength(strokePositions(across), 0.5), std::invalid_argument);
+    EXPECT_THROW(resampleBySpacing(across, 1.0), std::invalid_argument);
+    EXPECT_THROW(resampleBySpacing(strokePositions(across), 0.5), std::invalid_argument);
     EXPECT_LT(peakRssMb() - before, 16.0);
-    EXPECT_EQ(resampleByArcLength(across, 1e5, 21).samples.size(), 21u);
-    EXPECT_THROW(resampleByArcLength(across, 1e5, 20), std::invalid_argument);
+    EXPECT_EQ(resampleBySpacing(across, 1e5, 21).samples.size(), 21u);
+    EXPECT_THROW(resampleBySpacing(across, 1e5, 20), std::invalid_argument);
 }
 
 TEST(ResampleStroke, BoundedSpacingKeepsAnyLengthWithinThePointLimit) {
@@ -205,7 +205,7 @@ TEST(ResampleStroke, BoundedSpacingKeepsAnyLengthWithinThePointLimit) {
             const Stroke s = makeStroke({{0, 0}, {len / 2, 0}, {len / 2, len / 2}});
             const double spacing = boundedSpacing(strokeLength(s), 0.5, maxPoints);
             EXPECT_GE(spacing, 0.5);
-            EXPECT_LE(resampleByArcLength(s, spacing, maxPoints).samples.size(), maxPoints)
+            EXPECT_LE(resampleBySpacing(s, spacing, maxPoints).samples.size(), maxPoints)
                 << len << " mm, " << maxPoints;
         }
     EXPECT_THROW(boundedSpacing(INFINITY, 0.5, 100), std::invalid_argument);

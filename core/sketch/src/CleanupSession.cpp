@@ -112,7 +112,7 @@ int CleanupSession::addStroke(const Stroke& stroke, StrokeKind kind) {
     report.spacing = boundedSpacing(report.length, params_.resampleSpacing, limits.maxStrokePoints);
     report.coarsened = report.spacing > params_.resampleSpacing;
     const Polyline2 poly =
-        strokePositions(resampleByArcLength(stroke, report.spacing, limits.maxStrokePoints));
+        strokePositions(resampleBySpacing(stroke, report.spacing, limits.maxStrokePoints));
     report.points = poly.size();
     if (kind == StrokeKind::Curve) {
         // Asking for one more than the cap tells whether the cap cut anything off.
@@ -242,7 +242,7 @@ int CleanupSession::restartFromStroke(int curveId, int strokeId) {
 Polyline2 CleanupSession::resampled(int strokeId) const {
     const std::size_t i = std::size_t(strokeId);
     return strokePositions(
-        resampleByArcLength(strokes_[i], reports_[i].spacing, params_.limits.maxStrokePoints));
+        resampleBySpacing(strokes_[i], reports_[i].spacing, params_.limits.maxStrokePoints));
 }
 
 Polyline2 CleanupSession::featurePoints(const Polyline2& poly, std::size_t maxPoints) const {

@@ -108,9 +108,9 @@ void checkWindow(int halfWindow) {
 
 template <typename Points>
 Points resample(const Points& line, int count) {
-    const std::vector<double> s = checkedChordLengths(line, "resampleByArcLength");
+    const std::vector<double> s = checkedChordLengths(line, "resampleByCount");
     if (count < 2)
-        throw std::invalid_argument("resampleByArcLength: count must be >= 2, got " +
+        throw std::invalid_argument("resampleByCount: count must be >= 2, got " +
                                     std::to_string(count));
     Points out;
     out.reserve(std::size_t(count));
@@ -178,10 +178,10 @@ CurveDifferential curveDifferential(const Polyline3& line, int halfWindow) {
     return out;
 }
 
-Polyline2 resampleByArcLength(const Polyline2& line, int count) {
+Polyline2 resampleByCount(const Polyline2& line, int count) {
     return resample(line, count);
 }
-Polyline3 resampleByArcLength(const Polyline3& line, int count) {
+Polyline3 resampleByCount(const Polyline3& line, int count) {
     return resample(line, count);
 }
 

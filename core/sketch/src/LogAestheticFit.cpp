@@ -117,7 +117,7 @@ LaFitResult fitLaPlanarCurve(const Polyline2& drawn, const LaFitOptions& options
         throw std::invalid_argument(
             "fitLaPlanarCurve: fewer than 3 distinct points (zero-length stroke)");
     const int n = options.samples;
-    const Polyline2 target = resampleByArcLength(clean, n);
+    const Polyline2 target = resampleByCount(clean, n);
     const double length = sketch::length(target, false);
     const int window = options.halfWindow > 0 ? options.halfWindow : std::max(2, n / 20);
     const CurveDifferential d = curveDifferential(target, window);
@@ -221,7 +221,7 @@ LaSpaceFitResult fitLaSpaceCurve(const Polyline3& drawn, const LaFitOptions& opt
         throw std::invalid_argument(
             "fitLaSpaceCurve: fewer than 3 distinct points (zero-length curve)");
     const int n = options.samples;
-    const Polyline3 target = resampleByArcLength(clean, n);
+    const Polyline3 target = resampleByCount(clean, n);
     const double length = sketch::length(target, false);
     const int window = options.halfWindow > 0 ? options.halfWindow : std::max(2, n / 20);
     const CurveDifferential d = curveDifferential(target, window);

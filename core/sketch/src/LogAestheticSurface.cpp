@@ -49,7 +49,7 @@ IntrinsicCurve intrinsicCurve(const SpaceCurveSamples& curve) {
 }
 
 IntrinsicCurve intrinsicCurve(const Polyline3& curve, int samples, int halfWindow) {
-    const CurveDifferential d = curveDifferential(resampleByArcLength(curve, samples), halfWindow);
+    const CurveDifferential d = curveDifferential(resampleByCount(curve, samples), halfWindow);
     return {d.arcLength.back(), d.curvature, d.torsion};
 }
 

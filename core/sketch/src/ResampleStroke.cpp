@@ -13,7 +13,7 @@ namespace {
 
 void requireSpacing(double spacing) {
     if (!(std::isfinite(spacing) && spacing > 0.0))
-        throw std::invalid_argument("resampleByArcLength: spacing must be positive and finite");
+        throw std::invalid_argument("resampleBySpacing: spacing must be positive and finite");
 }
 
 StrokeSample lerp(const StrokeSample& a, const StrokeSample& b, double t) {
@@ -22,14 +22,14 @@ StrokeSample lerp(const StrokeSample& a, const StrokeSample& b, double t) {
 }
 
 [[noreturn]] void tooMany(double length, double spacing, std::size_t maxPoints) {
-    throw std::invalid_argument("resampleByArcLength: " + std::to_string(length) + " mm at " +
+    throw std::invalid_argument("resampleBySpacing: " + std::to_string(length) + " mm at " +
                                 std::to_string(spacing) + " mm spacing gives more than " +
                                 std::to_string(maxPoints) + " points");
 }
 
 }  // namespace
 
-Stroke resampleByArcLength(const Stroke& stroke, double spacing, std::size_t maxPoints) {
+Stroke resampleBySpacing(const Stroke& stroke, double spacing, std::size_t maxPoints) {
     validateStroke(stroke);
     requireSpacing(spacing);
     const auto& in = stroke.samples;
@@ -72,10 +72,10 @@ Stroke resampleByArcLength(const Stroke& stroke, double spacing, std::size_t max
     return out;
 }
 
-Polyline2 resampleByArcLength(const Polyline2& line, double spacing, std::size_t maxPoints) {
-    if (line.empty()) throw std::invalid_argument("resampleByArcLength: empty polyline");
-    detail::requireFinite(line, "resampleByArcLength");
-    return strokePositions(resampleByArcLength(makeStroke(line), spacing, maxPoints));
+Polyline2 resampleBySpacing(const Polyline2& line, double spacing, std::size_t maxPoints) {
+    if (line.empty()) throw std::invalid_argument("resampleBySpacing: empty polyline");
+    detail::requireFinite(line, "resampleBySpacing");
+    return strokePositions(resampleBySpacing(makeStroke(line), spacing, maxPoints));
 }
 
 double boundedSpacing(double length, double spacing, std::size_t maxPoints) {

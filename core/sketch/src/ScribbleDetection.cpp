@@ -25,7 +25,7 @@ int countReversals(const Polyline2& line, const ScribbleParams& params) {
     requireParams(params);
     if (line.size() < 3) return 0;
     const double spacing = boundedSpacing(length(line, false), params.spacing, params.maxPoints);
-    const Polyline2 pts = resampleByArcLength(line, spacing, params.maxPoints);
+    const Polyline2 pts = resampleBySpacing(line, spacing, params.maxPoints);
     // Signed turns at each resampled vertex; a reversal is a same-signed turn total of at least
     // reversalAngle within the window (then the window restarts so one hairpin counts once).
     // At least two vertices: a sharp corner between samples splits its turn over two.

@@ -37,9 +37,6 @@ struct CurveDifferential {
 CurveDifferential curveDifferential(const Polyline2& line, int halfWindow = 2);
 CurveDifferential curveDifferential(const Polyline3& line, int halfWindow = 2);
 
-// Resamples a polyline at `count` points equally spaced in chord-length along it (first and last
-// points kept). Throws std::invalid_argument for bad input (as above) or count < 2.
-Polyline2 resampleByArcLength(const Polyline2& line, int count);
-Polyline3 resampleByArcLength(const Polyline3& line, int count);
+// Resampling a polyline at a number of points: resampleByCount in Polyline.h.
 
 }  // namespace vsculpt::sketch

@@ -10,7 +10,6 @@ namespace vsculpt::sketch {
 
 /// Default bound on the points one resampling may produce (32 MB of samples). A caller that
 /// must not fail on long input picks its step with boundedSpacing instead of relying on it.
-inline constexpr std::size_t kMaxResampledPoints = 1'000'000;
 
 /// Resamples at arc-length steps of `spacing` mm starting at the first sample; the last input
 /// sample is always kept, so the final step may be shorter. Time and pressure are interpolated
@@ -18,13 +17,10 @@ inline constexpr std::size_t kMaxResampledPoints = 1'000'000;
 /// Throws std::invalid_argument for an invalid stroke (see validateStroke), spacing that is
 /// not a positive finite number, or a result that would have more than maxPoints points
 /// (checked before anything is allocated).
-Stroke resampleByArcLength(const Stroke& stroke, double spacing,
-                           std::size_t maxPoints = kMaxResampledPoints);
+Stroke resampleBySpacing(const Stroke& stroke, double spacing,
+                         std::size_t maxPoints = kMaxResampledPoints);
 
-/// Same for a bare polyline (mm). Throws for an empty polyline, points that are not finite or
-/// beyond kMaxStrokeCoordinate, bad spacing or too many points.
-Polyline2 resampleByArcLength(const Polyline2& line, double spacing,
-                              std::size_t maxPoints = kMaxResampledPoints);
+// The same for a bare polyline: resampleBySpacing in Polyline.h.
 
 /// `spacing`, or the wider step that keeps resampling a line of `length` mm within maxPoints
 /// points (>= 4). Throws std::invalid_argument for a non-finite or negative length, spacing

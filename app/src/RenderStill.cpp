@@ -46,10 +46,7 @@ int runRenderStill(const RenderOptions& o, std::ostream& out, std::ostream& err)
             studio = std::make_unique<Studio>(
                 core::loadConfig(o.configPath.empty() ? core::defaultConfigPath()
                                                       : std::filesystem::path(o.configPath)));
-            studio->setSurfaceProjector(
-                [](const Session& s, const std::vector<glm::dvec2>& px, glm::ivec2 viewport) {
-                    return projectOnModel(s, px, frontCamera(s, viewport));
-                });
+            installProjector(*studio);
             for (const ScriptCommand& c : script.commands) {
                 try {
                     studio->apply(c);

@@ -20,6 +20,18 @@ namespace vsculpt::app {
 
 using namespace vsculpt::studio;
 
+RigOptions windowRigOptions(const std::string& projectDir, bool noProject, bool liveDevices,
+                            const std::string& who) {
+    RigOptions ro;
+    ro.project = noProject            ? ProjectChoice::None
+                 : projectDir.empty() ? ProjectChoice::Autosave
+                                      : ProjectChoice::Given;
+    ro.projectDir = projectDir;
+    ro.liveDevices = liveDevices;
+    ro.who = who;
+    return ro;
+}
+
 std::filesystem::path dataDir() {
     const char* xdg = std::getenv("XDG_DATA_HOME");
     if (xdg && *xdg == '/') return std::filesystem::path(xdg) / "vsculpt";
@@ -98,11 +110,19 @@ std::vector<std::vector<core::Vec3>> projectOnModel(const Session& session,
     return lines;
 }
 
+void installProjector(Studio& studio) {
+    studio.setSurfaceProjector(
+        [](const Session& s, const std::vector<glm::dvec2>& px, glm::ivec2 viewport) {
+            return projectOnModel(s, px, frontCamera(s, viewport));
+        });
+}
+
 Rig::Rig(const core::SculptConfig& cfg, const RigOptions& options, std::ostream& log)
     : mConfig(cfg), mOptions(options) {
     switch (options.project) {
         case ProjectChoice::None:
             mStudio = std::make_unique<Studio>(cfg);
+            installProjector(*mStudio);
             break;
         case ProjectChoice::Given:
             openStudio(options.projectDir, log);
@@ -133,10 +153,7 @@ Rig::~Rig() = default;
 
 void Rig::openStudio(const std::filesystem::path& dir, std::ostream&) {
     mStudio = Studio::openProject(dir, mConfig, mOptions.mode);
-    mStudio->setSurfaceProjector(
-        [](const Session& s, const std::vector<glm::dvec2>& px, glm::ivec2 viewport) {
-            return projectOnModel(s, px, frontCamera(s, viewport));
-        });
+    installProjector(*mStudio);
 }
 
 DeviceInput& Rig::replayDevices(std::vector<devices::DeviceRule> rules) {

@@ -72,13 +72,7 @@ int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostrea
     }
     // The same studio, project and devices as every session (Rig.h): by default the last
     // project or a new autosave project, every step saved as it is made.
-    RigOptions ro;
-    ro.project = o.noProject            ? ProjectChoice::None
-                 : o.projectDir.empty() ? ProjectChoice::Autosave
-                                        : ProjectChoice::Given;
-    ro.projectDir = o.projectDir;
-    ro.liveDevices = o.devices;
-    ro.who = "vsculpt sketch";
+    const RigOptions ro = windowRigOptions(o.projectDir, o.noProject, o.devices, "vsculpt sketch");
     std::unique_ptr<Rig> rig;
     try {
         rig = std::make_unique<Rig>(cfg, ro, err);

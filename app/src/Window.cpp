@@ -60,12 +60,7 @@ int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
     // The studio, its project and the devices, built as for every session (Rig.h). By
     // default the window continues the last project, or starts a new autosave project, so
     // work sculpted here is journaled as it is made and survives a crash.
-    RigOptions ro;
-    ro.project = o.noProject            ? ProjectChoice::None
-                 : o.projectDir.empty() ? ProjectChoice::Autosave
-                                        : ProjectChoice::Given;
-    ro.projectDir = o.projectDir;
-    ro.liveDevices = o.devices;
+    const RigOptions ro = windowRigOptions(o.projectDir, o.noProject, o.devices, "vsculpt");
     std::unique_ptr<Rig> rig;
     try {
         rig = std::make_unique<Rig>(cfg, ro, err);

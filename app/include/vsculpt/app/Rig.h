@@ -36,6 +36,11 @@ struct RigOptions {
     std::string who = "vsculpt";  ///< message prefix
 };
 
+/// A window's rig: `projectDir` when given, no project with `noProject`, otherwise the last
+/// project or a new autosave project (ProjectChoice::Autosave).
+RigOptions windowRigOptions(const std::string& projectDir, bool noProject, bool liveDevices,
+                            const std::string& who);
+
 /// The folder projects live in by default: $XDG_DATA_HOME/vsculpt (~/.local/share/vsculpt).
 std::filesystem::path dataDir();
 /// The project the windows opened last, when it still exists.
@@ -53,6 +58,9 @@ render::ProjectionCamera frontCamera(const studio::Session& session, glm::ivec2 
 std::vector<std::vector<core::Vec3>> projectOnModel(const studio::Session& session,
                                                     const std::vector<glm::dvec2>& strokePx,
                                                     const render::ProjectionCamera& camera);
+
+/// Lets `studio` run `model-line` script commands: projectOnModel over frontCamera.
+void installProjector(studio::Studio& studio);
 
 class Rig {
   public:

@@ -45,7 +45,8 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         ->check(CLI::NonNegativeNumber);
     cli.add_option("--play", window.playScript,
                    "Run a playback script in the window, a command per frame");
-    cli.add_option("--shot", window.shotPath, "With --frames: save the last frame as PNG");
+    cli.add_option("--shot", window.shotPath,
+                   "Save the last frame as PNG (after --frames N frames; alone: one frame)");
     cli.add_flag("--hidden", window.hidden, "Do not show the window (automated runs)");
     cli.add_flag("!--no-devices", window.devices,
                  "Do not open trackers, 3D mice or headsets (mouse and keyboard only)");
@@ -67,6 +68,15 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     playCmd->add_option("--out", play.outputs,
                         "Export the final sculpture; repeatable; format from the extension: "
                         ".obj .stl .ply .glb .dxf .vdb");
+    playCmd
+        ->add_option("--up", play.up,
+                     "Up axis of the --out files, y or z (default: y for .obj, z for .stl .ply "
+                     ".dxf .vdb; .glb is always y; docs/playback.md)")
+        ->check(CLI::IsMember({"y", "z"}, CLI::ignore_case));
+    playCmd
+        ->add_option("--units", play.units,
+                     "Length unit of the --out files, mm, cm or m (default: mm; .glb is always m)")
+        ->check(CLI::IsMember({"mm", "cm", "m"}, CLI::ignore_case));
     playCmd->add_option("--stats", play.statsPath, "Write statistics as JSON to PATH (- = stdout)");
     playCmd->add_flag("--check", play.check,
                       "After every edit, compare the incremental mesh with a full rebuild");
@@ -172,7 +182,11 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     if (!*infoCmd) {
         window.configPath = configPath == core::defaultConfigPath().string() ? "" : configPath;
         const int code = runWindow(window, out, err);
-        if (code != 1) return code;
+        // Without a display the summary stands in for the window, unless the window was asked
+        // for work (a script, a shot, frames): that work was not done, so it is a failure.
+        const bool askedForWindowWork =
+            !window.shotPath.empty() || !window.playScript.empty() || window.frames > 0;
+        if (code != 1 || askedForWindowWork) return code;
         // No display: the summary is the headless main job.
     }
 

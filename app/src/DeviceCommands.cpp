@@ -129,6 +129,7 @@ int runDevices(const std::string& configPath, std::ostream& out, std::ostream& e
 }
 
 int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
+    (void)out;  // the recording is the data (written to its file); people read stderr
     core::SculptConfig cfg;
     try {
         cfg = core::loadConfig(o.configPath.empty() ? core::defaultConfigPath()
@@ -165,7 +166,7 @@ int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
     std::set<std::string> present;
     bool anyArrived = false;
     int code = 0;
-    out << "vsculpt record: recording to " << o.outPath << " (Ctrl-C to stop)\n" << std::flush;
+    err << "vsculpt record: recording to " << o.outPath << " (Ctrl-C to stop)\n" << std::flush;
     while (!gStop) {
         try {
             live.pump([&](const devices::DeviceEvent& e) {
@@ -174,10 +175,10 @@ int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
                 if (e.kind == devices::DeviceEventKind::Arrived) {
                     present.insert(e.device);
                     anyArrived = true;
-                    out << "vsculpt record: " << e.device << " connected\n" << std::flush;
+                    err << "vsculpt record: " << e.device << " connected\n" << std::flush;
                 } else if (e.kind == devices::DeviceEventKind::Left) {
                     present.erase(e.device);
-                    out << "vsculpt record: " << e.device << " disconnected\n" << std::flush;
+                    err << "vsculpt record: " << e.device << " disconnected\n" << std::flush;
                 }
             });
             live.send(input.takeOutput());
@@ -191,7 +192,7 @@ int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (!warnedNone && !anyArrived && elapsed > 2.0) {
             warnedNone = true;
-            out << "vsculpt record: no supported device is connected; waiting for one ("
+            err << "vsculpt record: no supported device is connected; waiting for one ("
                 << "`vsculpt devices` lists what is there)\n"
                 << std::flush;
         }
@@ -206,8 +207,8 @@ int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
     char hash[17];
     std::snprintf(hash, sizeof hash, "%016llx",
                   static_cast<unsigned long long>(core::canonicalMeshHash(mesh)));
-    out << input.summary();
-    out << "vsculpt record: wrote " << writer->eventsWritten() << " event(s) to " << o.outPath
+    err << input.summary();
+    err << "vsculpt record: wrote " << writer->eventsWritten() << " event(s) to " << o.outPath
         << ", mesh hash " << hash << "\n";
     if (live.droppedReports() > 0)
         err << "vsculpt record: warning: " << live.droppedReports()

@@ -119,10 +119,9 @@ struct DeviceInput::State {
 
     static devices::HeadCalibration headCalibration(const core::DevicesConfig& c) {
         devices::HeadCalibration cal;
-        cal.worldFromTracker =
-            core::RigidTransform{eulerDegrees(c.worldFromTrackerRotationDeg),
-                                 c.worldFromTrackerTranslationMm}
-                .matrix();
+        cal.worldFromTracker = core::RigidTransform{eulerDegrees(c.worldFromTrackerRotationDeg),
+                                                    c.worldFromTrackerTranslationMm}
+                                   .matrix();
         return cal;
     }
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/app/Play.h"
 
+#include "vsculpt/app/CliChecks.h"
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/core/ExportDxf.h"
 #include "vsculpt/core/ExportMesh.h"
@@ -21,6 +22,7 @@
 #include <memory>
 #include <optional>
 #include <ostream>
+#include <tuple>
 
 namespace vsculpt::app {
 
@@ -165,6 +167,14 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
         err << "vsculpt play: error: " << e.what() << "\n";
         return 2;
     }
+    ExportOptions exportFrameOptions;
+    try {
+        if (!o.up.empty()) exportFrameOptions.up = parseUpAxis(o.up);
+        if (!o.units.empty()) exportFrameOptions.units = parseLengthUnit(o.units);
+    } catch (const std::invalid_argument& e) {
+        err << "vsculpt play: error: " << e.what() << "\n";
+        return 2;
+    }
     for (const std::string& path : o.outputs) {
         std::string ext = std::filesystem::path(path).extension().string();
         std::transform(ext.begin(), ext.end(), ext.begin(),
@@ -175,18 +185,21 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
                 << "' (use .obj, .stl, .ply, .glb, .dxf or .vdb)\n";
             return 2;
         }
+        // --up and --units serve every --out of the run, so one .glb among them is no reason
+        // to refuse the run: it is written the one way glTF allows, and the user is told.
+        if (formatFixesFrame(path) &&
+            (exportFrameOptions.up.value_or(UpAxis::Y) != UpAxis::Y ||
+             exportFrameOptions.units.value_or(LengthUnit::Metre) != LengthUnit::Metre))
+            err << "vsculpt play: note: --out " << path
+                << ": glTF is always +Y up in metres (glTF 2.0); --up and --units apply to the "
+                   "other outputs\n";
     }
     render::ShotOptions shot;
     if (!o.shotPath.empty()) {
         try {
             shot.mode = render::parseStereoMode(o.stereo);
-            int w = 0, h = 0;
-            char x = 0;
-            if (std::sscanf(o.shotSize.c_str(), "%d%c%d", &w, &x, &h) != 3 || x != 'x')
-                throw std::invalid_argument("--shot-size must be WIDTHxHEIGHT, got '" + o.shotSize +
-                                            "'");
-            shot.width = w;
-            shot.height = h;
+            std::tie(shot.width, shot.height) = parseImageSize(o.shotSize, "--shot-size");
+            requirePngPath(o.shotPath, "--shot");
         } catch (const std::exception& e) {
             err << "vsculpt play: error: " << e.what() << "\n";
             return 2;
@@ -283,6 +296,11 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
                 err << "\nvsculpt play: error: " << script.source << ":" << c.line << ": "
                     << e.what() << "\n";
                 return 2;
+            } catch (const std::out_of_range& e) {
+                // A script naming what is not there (a stroke id to reuse, a page): its input.
+                err << "\nvsculpt play: error: " << script.source << ":" << c.line << ": "
+                    << e.what() << "\n";
+                return 2;
             } catch (const std::exception& e) {
                 err << "\nvsculpt play: error: " << script.source << ":" << c.line << ": "
                     << e.what() << "\n";
@@ -299,14 +317,19 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
                                    : zoomSpacing(cfg, session->sculpture().levels(), 1);
         const Mesh mesh = session->wholeMesh(spacing);
         for (const std::string& path : o.outputs) {
-            ExportOptions eo;
+            ExportOptions eo = exportFrameOptions;
             eo.voxelSizeMm = spacing;
+            if (formatFixesFrame(path)) {  // the note above said so
+                eo.up.reset();
+                eo.units.reset();
+            }
             const std::vector<std::vector<Vec3>> curves = studio.curvesInObjectSpace();
             if (std::filesystem::path(path).extension() == ".dxf" && !curves.empty()) {
                 // CAD gets the sketch too: the sculpture as 3DFACEs, the curves as polylines.
                 DxfOptions d;
                 d.surfaceLayer = "sculpture";
                 d.curveLayer = "sketch";
+                d.frame = exportFrame(path, eo);
                 writeDxf(path, std::span<const Mesh>(&mesh, 1), curves, d);
             } else {
                 exportMesh(mesh, path, eo);
@@ -315,7 +338,7 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
         if (!o.shotPath.empty()) {
             // The final frame: the mesh on show at the current zoom.
             render::writePng(render::renderShot(session->view().mesh(), shot), o.shotPath);
-            out << "vsculpt play: wrote " << o.shotPath << " (" << o.stereo << ")\n";
+            err << "vsculpt play: wrote " << o.shotPath << " (" << o.stereo << ")\n";
         }
         const nlohmann::json stats = statsJson(studio, mesh, o, spacing);
         if (o.statsPath == "-") {
@@ -325,8 +348,9 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
             f << stats.dump(2) << "\n";
             if (!f) throw std::runtime_error(o.statsPath + ": cannot write statistics");
         }
-        if (recording) out << deviceSummary;
-        out << "vsculpt play: "
+        // stdout carries machine output only (--stats -): what a person reads goes to stderr.
+        if (recording) err << deviceSummary;
+        err << "vsculpt play: "
             << (recording ? std::to_string(recording->events.size()) + " device event(s), "
                           : std::to_string(script.commands.size()) + " command(s), ")
             << stats["skeletons"].get<size_t>() << " skeletons, " << mesh.triangleCount()

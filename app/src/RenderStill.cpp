@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/app/RenderStill.h"
 
+#include "vsculpt/app/CliChecks.h"
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/core/WriteFileAtomically.h"
 #include "vsculpt/render/RayTrace.h"
@@ -9,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <ostream>
+#include <tuple>
 
 namespace vsculpt::app {
 
@@ -16,13 +18,10 @@ using namespace vsculpt::studio;
 
 int runRenderStill(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     int w = 0, h = 0;
-    char x = 0;
-    if (std::sscanf(o.size.c_str(), "%d%c%d", &w, &x, &h) != 3 || x != 'x') {
-        err << "vsculpt render: error: --size must be WIDTHxHEIGHT, got '" << o.size << "'\n";
-        return 2;
-    }
-    // The output is checked before the (long) render.
+    // Bad values and the output are checked before the (long) render.
     try {
+        std::tie(w, h) = parseImageSize(o.size, "--size");
+        requirePngPath(o.outPath, "--out");
         core::ensureWritable(o.outPath);
     } catch (const std::exception& e) {
         err << "vsculpt render: error: " << e.what() << "\n";

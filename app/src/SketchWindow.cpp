@@ -2,8 +2,10 @@
 #include "vsculpt/app/SketchWindow.h"
 
 #include "KeyNames.h"
+#include "vsculpt/app/CliChecks.h"
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/app/SketchInkList.h"
+#include "vsculpt/core/WriteFileAtomically.h"
 #include "vsculpt/render/ProjectStroke.h"
 #include "vsculpt/render/SketchCanvas.h"
 #include "vsculpt/render/Viewer.h"
@@ -47,7 +49,19 @@ const char* planeName(SketchPlane p) {
 
 }  // namespace
 
-int runSketchWindow(const SketchWindowOptions& o, std::ostream& out, std::ostream& err) {
+int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::ostream& err) {
+    SketchWindowOptions o = options;
+    // A shot without a frame count is of the first frame, not of a window left open.
+    if (!o.shotPath.empty() && o.frames == 0) o.frames = 1;
+    if (!o.shotPath.empty()) {
+        try {
+            requirePngPath(o.shotPath, "--shot");
+            core::ensureWritable(o.shotPath);
+        } catch (const std::exception& e) {
+            err << "vsculpt sketch: error: " << e.what() << "\n";
+            return 2;
+        }
+    }
     core::SculptConfig cfg;
     Script script;
     try {

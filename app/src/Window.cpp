@@ -2,8 +2,10 @@
 #include "vsculpt/app/Window.h"
 
 #include "KeyNames.h"
+#include "vsculpt/app/CliChecks.h"
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/core/Project.h"
+#include "vsculpt/core/WriteFileAtomically.h"
 #include "vsculpt/render/Viewer.h"
 #include "vsculpt/studio/PickTool.h"
 
@@ -33,7 +35,19 @@ const char* toolName(ToolKind t) {
 
 }  // namespace
 
-int runWindow(const WindowOptions& o, std::ostream& out, std::ostream& err) {
+int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err) {
+    WindowOptions o = options;
+    // A shot without a frame count is of the first frame, not of a window left open.
+    if (!o.shotPath.empty() && o.frames == 0) o.frames = 1;
+    if (!o.shotPath.empty()) {
+        try {
+            requirePngPath(o.shotPath, "--shot");
+            core::ensureWritable(o.shotPath);
+        } catch (const std::exception& e) {
+            err << "vsculpt: error: " << e.what() << "\n";
+            return 2;
+        }
+    }
     SculptConfig cfg;
     render::StereoMode mode;
     Script script;

@@ -154,7 +154,6 @@ TEST(DeviceInput, HandHeldObjectStationMovesTheSculpture) {
 TEST(DeviceInput, GarbageAndSplitRecordsAreHandled) {
     const core::SculptConfig cfg = config();
     Studio studio(cfg);
-    const Session& s = studio.session();
     Interaction ui(studio, true);
     DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, studio);
     input.handle(arrived(0, "tracker", 0x0f44, 0xff20));
@@ -317,7 +316,6 @@ TEST(DeviceInput, GenericHidTabletIsDecodedFromItsArrivingDescriptor) {
     core::SculptConfig cfg = config();
     cfg.devices.match.push_back({"xppen", "hid-digitizer", "hidraw", 0x28bd, {0x0905}, 0, 0, 0});
     Studio studio(cfg);
-    const Session& s = studio.session();
     Interaction ui(studio);
     DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, studio);
     // Without a descriptor nothing can be decoded.

@@ -8,9 +8,9 @@
 
 #include "vsculpt/app/DeviceCommands.h"
 #include "vsculpt/app/Play.h"
-#include "vsculpt/studio/Session.h"
 #include "vsculpt/core/Mesh.h"
 #include "vsculpt/devices/Polhemus.h"
+#include "vsculpt/studio/Session.h"
 
 #include <gtest/gtest.h>
 
@@ -88,10 +88,10 @@ TEST(DeviceLive, RecordThenReplayGivesTheLiveSculpture) {
     tracker.unplug();
     recorder.join();
     ASSERT_EQ(recCode, 0) << recErr.str();
-    EXPECT_NE(recOut.str().find("tracker connected"), std::string::npos) << recOut.str();
-    EXPECT_NE(recOut.str().find("tracker disconnected"), std::string::npos) << recOut.str();
-    EXPECT_NE(recOut.str().find("tracker: 43 reports, 60 samples"), std::string::npos)
-        << recOut.str();
+    EXPECT_NE(recErr.str().find("tracker connected"), std::string::npos) << recErr.str();
+    EXPECT_NE(recErr.str().find("tracker disconnected"), std::string::npos) << recErr.str();
+    EXPECT_NE(recErr.str().find("tracker: 43 reports, 60 samples"), std::string::npos)
+        << recErr.str();
 
     // The start-up commands reached the tracker, in order.
     const auto sent = tracker.sent();
@@ -99,8 +99,8 @@ TEST(DeviceLive, RecordThenReplayGivesTheLiveSculpture) {
     for (size_t i = 0; i < expected.size(); ++i)
         EXPECT_EQ(sent[i], expected[i]) << "command " << i;
 
-    const std::string live = meshHashIn(recOut.str());
-    ASSERT_FALSE(live.empty()) << recOut.str();
+    const std::string live = meshHashIn(recErr.str());
+    ASSERT_FALSE(live.empty()) << recErr.str();
 
     app::PlayOptions play;
     play.script = rec.outPath;
@@ -108,7 +108,7 @@ TEST(DeviceLive, RecordThenReplayGivesTheLiveSculpture) {
     play.check = true;
     std::ostringstream playOut, playErr;
     ASSERT_EQ(app::runPlay(play, playOut, playErr), 0) << playErr.str();
-    EXPECT_EQ(meshHashIn(playOut.str()), live) << playOut.str();
+    EXPECT_EQ(meshHashIn(playErr.str()), live) << playErr.str();
 
     // And the pen did sculpt: the live sculpture is not the initial sphere.
     core::SculptConfig cfg = core::loadConfig(configPath);

@@ -58,7 +58,9 @@ TEST(Studio, DrawingOnTheModelGivesSurfaceLinesThatUndo) {
             // On the polygonized sphere (within its grid's chord error), on the camera's side.
             EXPECT_NEAR(glm::length(line[i]), 20, 0.5 * h) << i;
             EXPECT_LT(line[i].y, 0) << i;
-            if (i > 0) EXPECT_LE(glm::distance(line[i], line[i - 1]), h / 3 + 1e-9);
+            if (i > 0) {
+                EXPECT_LE(glm::distance(line[i], line[i - 1]), h / 3 + 1e-9);
+            }
         }
         // Across the whole silhouette: from one side of the sphere to the other.
         EXPECT_LT(line.front().x, -18);

@@ -17,12 +17,12 @@
 /// object motion.
 #pragma once
 
-#include "vsculpt/studio/Interaction.h"
-#include "vsculpt/studio/Studio.h"
 #include "vsculpt/core/Config.h"
 #include "vsculpt/devices/DeviceEvent.h"
 #include "vsculpt/devices/DeviceRule.h"
 #include "vsculpt/devices/PenSample.h"
+#include "vsculpt/studio/Interaction.h"
+#include "vsculpt/studio/Studio.h"
 
 #include <glm/mat4x4.hpp>
 

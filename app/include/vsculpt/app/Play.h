@@ -22,6 +22,11 @@ struct PlayOptions {
     std::string shotPath;              ///< PNG of the final frame ("" = none)
     std::string stereo = "mono";       ///< mono, sbs or anaglyph
     std::string shotSize = "960x540";  ///< WIDTHxHEIGHT in pixels
+    /// Frame of the --out files (core/ExportMesh.h): "y" or "z", and "mm", "cm" or "m"; "" is
+    /// each format's default. .glb is always Y-up metres: a note says when these are not.
+    /// --stats stays in object space (Z-up, mm) whatever these say.
+    std::string up;
+    std::string units;
 };
 
 /// Returns the exit code: 0 success, 1 runtime failure (check mismatch, export failure),

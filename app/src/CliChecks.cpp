@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/app/CliChecks.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <stdexcept>
+
+namespace vsculpt::app {
+
+std::pair<int, int> parseImageSize(const std::string& text, const std::string& option) {
+    int w = 0, h = 0, used = 0;
+    char x = 0;
+    const bool parsed = std::sscanf(text.c_str(), "%d%c%d%n", &w, &x, &h, &used) == 3 && x == 'x' &&
+                        size_t(used) == text.size();
+    if (!parsed)
+        throw std::invalid_argument(option + " must be WIDTHxHEIGHT (e.g. 1280x800), got '" + text +
+                                    "'");
+    if (w < 1 || h < 1 || w > 16384 || h > 16384)
+        throw std::invalid_argument(option + " " + text +
+                                    ": width and height must be 1 to 16384 pixels");
+    return {w, h};
+}
+
+void requirePngPath(const std::filesystem::path& path, const std::string& option) {
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext != ".png")
+        throw std::invalid_argument(option + " " + path.string() +
+                                    ": images are written as PNG; name the file .png");
+}
+
+}  // namespace vsculpt::app

@@ -42,6 +42,18 @@ void point(std::ostream& out, int code, const Vec3& p) {
         << p.z << '\n';
 }
 
+int insUnits(LengthUnit unit) {
+    switch (unit) {
+        case LengthUnit::Millimetre:
+            return 4;
+        case LengthUnit::Centimetre:
+            return 5;
+        case LengthUnit::Metre:
+            return 6;
+    }
+    return 0;  // not reached: every unit is handled above
+}
+
 void writeLayerTable(std::ostream& out, const std::set<std::string>& layers) {
     out << "0\nSECTION\n2\nTABLES\n";
     // The LAYER entries name the CONTINUOUS line type, which R12 readers expect to be defined.
@@ -94,7 +106,9 @@ void writeDxf(const std::filesystem::path& path, std::span<const Mesh> surfaces,
 
     std::ostringstream out;
     out.precision(std::numeric_limits<double>::max_digits10);
-    out << "0\nSECTION\n2\nHEADER\n9\n$ACADVER\n1\nAC1009\n9\n$INSUNITS\n70\n4\n0\nENDSEC\n";
+    const ExportFrame& frame = options.frame;
+    out << "0\nSECTION\n2\nHEADER\n9\n$ACADVER\n1\nAC1009\n9\n$INSUNITS\n70\n"
+        << insUnits(frame.units) << "\n0\nENDSEC\n";
     writeLayerTable(out, layers);
     out << "0\nSECTION\n2\nENTITIES\n";
     for (size_t s = 0; s < surfaces.size(); ++s) {
@@ -103,7 +117,7 @@ void writeDxf(const std::filesystem::path& path, std::span<const Mesh> surfaces,
         for (size_t t = 0; t < m.triangleCount(); ++t) {
             out << "0\n3DFACE\n8\n" << layer << '\n';
             for (int q = 0; q < 4; ++q)
-                point(out, 10 + q, m.positions[m.indices[3 * t + std::min(q, 2)]]);
+                point(out, 10 + q, frame.point(m.positions[m.indices[3 * t + std::min(q, 2)]]));
         }
     }
     for (size_t c = 0; c < curves.size(); ++c) {
@@ -115,7 +129,7 @@ void writeDxf(const std::filesystem::path& path, std::span<const Mesh> surfaces,
         out << "70\n" << (8 | (closed ? 1 : 0)) << '\n';
         for (const Vec3& p : curves[c]) {
             out << "0\nVERTEX\n8\n" << layer << '\n';
-            point(out, 10, p);
+            point(out, 10, frame.point(p));
             out << "70\n32\n";  // 32: a 3D polyline vertex
         }
         out << "0\nSEQEND\n8\n" << layer << '\n';

@@ -34,6 +34,27 @@ void put(std::ostream& out, T v) {
     out.write(reinterpret_cast<const char*>(&v), sizeof v);
 }
 
+/// "millimetres, +Z up": what a reader of a file without a unit field needs to know.
+std::string frameNote(const ExportFrame& f) {
+    const char* unit = f.units == LengthUnit::Millimetre   ? "millimetres"
+                       : f.units == LengthUnit::Centimetre ? "centimetres"
+                                                           : "metres";
+    return std::string(unit) + ", +" + (f.up == UpAxis::Y ? "Y" : "Z") + " up";
+}
+
+/// Every writer below writes the mesh it is given as is: the frame is applied once, here.
+Mesh inFrame(const Mesh& m, const ExportFrame& f) {
+    Mesh out;
+    out.indices = m.indices;
+    out.positions.reserve(m.positions.size());
+    for (const Vec3& p : m.positions)
+        out.positions.push_back(f.point(p));
+    out.normals.reserve(m.normals.size());
+    for (const Vec3& n : m.normals)
+        out.normals.push_back(f.direction(n));
+    return out;
+}
+
 Vec3 faceNormal(const Mesh& m, size_t t) {
     const Vec3 a = m.positions[m.indices[3 * t]], b = m.positions[m.indices[3 * t + 1]],
                c = m.positions[m.indices[3 * t + 2]];
@@ -45,9 +66,9 @@ Vec3 faceNormal(const Mesh& m, size_t t) {
 // Each format is rendered in memory and written with writeFileAtomically: no library ever
 // opens the output path, so no partial or foreign file can appear under the real name.
 
-std::string writeObj(const Mesh& m) {
+std::string writeObj(const Mesh& m, const ExportFrame& f) {
     std::ostringstream out = textOut();
-    out << "# vsculpt mesh, millimetres\n";
+    out << "# vsculpt mesh, " << frameNote(f) << "\n";
     for (const Vec3& v : m.positions)
         out << "v " << v.x << ' ' << v.y << ' ' << v.z << '\n';
     const bool normals = m.normals.size() == m.positions.size();
@@ -66,10 +87,11 @@ std::string writeObj(const Mesh& m) {
     return std::move(out).str();
 }
 
-std::string writeStl(const Mesh& m) {
+std::string writeStl(const Mesh& m, const ExportFrame& f) {
     std::ostringstream out;
     char header[80] = {};
-    std::snprintf(header, sizeof header, "vsculpt binary STL, millimetres");
+    // Never starting with "solid": readers take such a file for ASCII STL.
+    std::snprintf(header, sizeof header, "vsculpt binary STL, %s", frameNote(f).c_str());
     out.write(header, sizeof header);
     put(out, uint32_t(m.triangleCount()));
     for (size_t t = 0; t < m.triangleCount(); ++t) {
@@ -88,10 +110,10 @@ std::string writeStl(const Mesh& m) {
     return std::move(out).str();
 }
 
-std::string writePly(const Mesh& m) {
+std::string writePly(const Mesh& m, const ExportFrame& f) {
     std::ostringstream out = textOut();
     const bool normals = m.normals.size() == m.positions.size();
-    out << "ply\nformat binary_little_endian 1.0\ncomment vsculpt mesh, millimetres\n"
+    out << "ply\nformat binary_little_endian 1.0\ncomment vsculpt mesh, " << frameNote(f) << "\n"
         << "element vertex " << m.positions.size() << "\n"
         << "property float x\nproperty float y\nproperty float z\n";
     if (normals) out << "property float nx\nproperty float ny\nproperty float nz\n";
@@ -182,10 +204,11 @@ std::string writeGlb(const Mesh& m, const std::filesystem::path& p) {
     mesh.name = "sculpture";
     mesh.primitives.push_back(prim);
     model.meshes.push_back(mesh);
+    // No node transform: the vertices are already Y-up metres, so readers that ignore node
+    // transforms, or bake them differently, still get the sculpture standing at its size.
     tinygltf::Node node;
     node.mesh = 0;
-    node.name = "sculpture (millimetres)";
-    node.scale = {0.001, 0.001, 0.001};  // glTF is in metres
+    node.name = "sculpture";
     model.nodes.push_back(node);
     tinygltf::Scene scene;
     scene.nodes.push_back(0);
@@ -210,10 +233,11 @@ class VdbMemoryArchive : public openvdb::io::Archive {
     }
 };
 
-std::string writeVdb(const Mesh& m, const ExportOptions& o) {
+std::string writeVdb(const Mesh& m, const ExportOptions& o, const ExportFrame& f) {
     static std::once_flag once;
     std::call_once(once, [] { openvdb::initialize(); });
-    const auto xform = openvdb::math::Transform::createLinearTransform(o.voxelSizeMm);
+    const auto xform =
+        openvdb::math::Transform::createLinearTransform(o.voxelSizeMm / mmPerUnit(f.units));
     std::vector<openvdb::Vec3s> points;
     std::vector<openvdb::Vec3I> tris;
     for (const Vec3& v : m.positions)  // meshToLevelSet takes world-space points
@@ -223,11 +247,89 @@ std::string writeVdb(const Mesh& m, const ExportOptions& o) {
     openvdb::FloatGrid::Ptr grid = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(
         *xform, points, tris, float(o.narrowBandVoxels));
     grid->setName("sculpture");
-    grid->insertMeta("units", openvdb::StringMetadata("mm"));
+    // VDB has no axis or unit convention: the metadata is the only place a reader can learn them.
+    grid->insertMeta("units", openvdb::StringMetadata(toString(f.units)));
+    grid->insertMeta("up_axis", openvdb::StringMetadata(toString(f.up)));
     return VdbMemoryArchive().write(openvdb::GridPtrVec{grid});
 }
 
 }  // namespace
+
+UpAxis parseUpAxis(std::string_view text) {
+    const std::string t = lower(std::string(text));
+    if (t == "y") return UpAxis::Y;
+    if (t == "z") return UpAxis::Z;
+    throw std::invalid_argument("unknown up axis '" + std::string(text) + "' (use y or z)");
+}
+
+LengthUnit parseLengthUnit(std::string_view text) {
+    const std::string t = lower(std::string(text));
+    if (t == "mm") return LengthUnit::Millimetre;
+    if (t == "cm") return LengthUnit::Centimetre;
+    if (t == "m") return LengthUnit::Metre;
+    throw std::invalid_argument("unknown unit '" + std::string(text) + "' (use mm, cm or m)");
+}
+
+const char* toString(UpAxis up) {
+    return up == UpAxis::Y ? "y" : "z";
+}
+
+const char* toString(LengthUnit unit) {
+    switch (unit) {
+        case LengthUnit::Millimetre:
+            return "mm";
+        case LengthUnit::Centimetre:
+            return "cm";
+        case LengthUnit::Metre:
+            return "m";
+    }
+    return "?";
+}
+
+double mmPerUnit(LengthUnit unit) {
+    switch (unit) {
+        case LengthUnit::Millimetre:
+            return 1;
+        case LengthUnit::Centimetre:
+            return 10;
+        case LengthUnit::Metre:
+            return 1000;
+    }
+    return 1;
+}
+
+// Dividing by the exact mm-per-unit (not multiplying by an inexact 0.1 or 0.001) rounds each
+// coordinate once, so 150 mm is 0.15 m to the last bit.
+Vec3 ExportFrame::point(const Vec3& p) const {
+    return direction(p) / mmPerUnit(units);
+}
+
+Vec3 ExportFrame::direction(const Vec3& v) const {
+    return up == UpAxis::Y ? Vec3(v.x, v.z, -v.y) : v;
+}
+
+bool formatFixesFrame(const std::filesystem::path& path) {
+    return lower(path.extension().string()) == ".glb";
+}
+
+ExportFrame exportFrame(const std::filesystem::path& path, const ExportOptions& o) {
+    const std::string ext = lower(path.extension().string());
+    if (std::find(exportExtensions().begin(), exportExtensions().end(), ext) ==
+        exportExtensions().end())
+        throw ExportError(path.string() + ": unknown export format '" + ext +
+                          "' (use .obj, .stl, .ply, .glb, .dxf or .vdb)");
+    ExportFrame f;
+    if (formatFixesFrame(path)) {
+        if ((o.up && *o.up != UpAxis::Y) || (o.units && *o.units != LengthUnit::Metre))
+            throw ExportError(path.string() +
+                              ": glTF is always +Y up in metres (glTF 2.0 specification); "
+                              "leave up and units unset for .glb");
+        return {UpAxis::Y, LengthUnit::Metre};
+    }
+    f.up = o.up.value_or(ext == ".obj" ? UpAxis::Y : UpAxis::Z);
+    f.units = o.units.value_or(LengthUnit::Millimetre);
+    return f;
+}
 
 const std::vector<std::string>& exportExtensions() {
     static const std::vector<std::string> e = {".obj", ".stl", ".ply", ".glb", ".dxf", ".vdb"};
@@ -235,16 +337,14 @@ const std::vector<std::string>& exportExtensions() {
 }
 
 void exportMesh(const Mesh& mesh, const std::filesystem::path& path, const ExportOptions& o) {
+    const ExportFrame frame = exportFrame(path, o);
     const std::string ext = lower(path.extension().string());
-    if (std::find(exportExtensions().begin(), exportExtensions().end(), ext) ==
-        exportExtensions().end())
-        throw ExportError(path.string() + ": unknown export format '" + ext +
-                          "' (use .obj, .stl, .ply, .glb, .dxf or .vdb)");
     if (mesh.triangleCount() == 0)
         throw ExportError(path.string() + ": nothing to export: the mesh is empty");
     if (ext == ".dxf") {  // ExportDxf writes atomically itself
         DxfOptions options;
         options.surfaceLayer = "sculpture";
+        options.frame = frame;
         try {
             writeDxf(path, std::span<const Mesh>(&mesh, 1), {}, options);
         } catch (const std::invalid_argument& e) {
@@ -254,16 +354,19 @@ void exportMesh(const Mesh& mesh, const std::filesystem::path& path, const Expor
     }
     std::string bytes;
     try {
+        Mesh turned;
+        if (!frame.identity()) turned = inFrame(mesh, frame);
+        const Mesh& m = frame.identity() ? mesh : turned;
         if (ext == ".obj")
-            bytes = writeObj(mesh);
+            bytes = writeObj(m, frame);
         else if (ext == ".stl")
-            bytes = writeStl(mesh);
+            bytes = writeStl(m, frame);
         else if (ext == ".ply")
-            bytes = writePly(mesh);
+            bytes = writePly(m, frame);
         else if (ext == ".glb")
-            bytes = writeGlb(mesh, path);
+            bytes = writeGlb(m, path);
         else
-            bytes = writeVdb(mesh, o);
+            bytes = writeVdb(m, o, frame);
     } catch (const ExportError&) {
         throw;
     } catch (const std::exception& e) {

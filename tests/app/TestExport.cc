@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 // Every export is read back: OBJ, STL, PLY and GLB by Assimp (a third-party loader from
-// Debian), DXF by counting its 3DFACE entities, VDB by OpenVDB's own reader.
-#include "vsculpt/studio/Session.h"
+// Debian), DXF by counting its 3DFACE entities, VDB by OpenVDB's own reader. Axes and units
+// are tested in TestExportAxes.cc.
 #include "vsculpt/core/ExportMesh.h"
+#include "vsculpt/studio/Session.h"
 
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -18,7 +19,7 @@ using core::Vec3;
 
 namespace {
 
-struct Fixture : ::testing::Test {
+struct Export : ::testing::Test {
     static inline core::Mesh mesh;
     static inline std::filesystem::path dir;
     static void SetUpTestSuite() {
@@ -36,12 +37,12 @@ struct Fixture : ::testing::Test {
     static void TearDownTestSuite() { std::filesystem::remove_all(dir); }
 };
 
-void expectBoxNear(const aiScene* scene, const core::Aabb& want, double scale, double tol) {
+void expectBoxNear(const aiScene* scene, const core::Aabb& want, double tol) {
     core::Aabb got;
     for (unsigned m = 0; m < scene->mNumMeshes; ++m)
         for (unsigned v = 0; v < scene->mMeshes[m]->mNumVertices; ++v) {
             const aiVector3D& p = scene->mMeshes[m]->mVertices[v];
-            got.expand(Vec3(p.x, p.y, p.z) * scale);
+            got.expand(Vec3(p.x, p.y, p.z));
         }
     for (int a = 0; a < 3; ++a) {
         EXPECT_NEAR(got.min[a], want.min[a], tol);
@@ -56,7 +57,7 @@ size_t faces(const aiScene* scene) {
     return n;
 }
 
-TEST_F(Fixture, ObjStlPlyGlbLoadInAssimp) {
+TEST_F(Export, ObjStlPlyGlbLoadInAssimp) {
     ASSERT_GT(mesh.triangleCount(), 1000u);
     const core::Aabb box = core::meshBounds(mesh);
     for (const char* ext : {".obj", ".stl", ".ply", ".glb"}) {
@@ -66,8 +67,13 @@ TEST_F(Fixture, ObjStlPlyGlbLoadInAssimp) {
         const aiScene* scene = importer.ReadFile(path.string(), aiProcess_JoinIdenticalVertices);
         ASSERT_NE(scene, nullptr) << ext << ": " << importer.GetErrorString();
         EXPECT_EQ(faces(scene), mesh.triangleCount()) << ext;
-        // Assimp reads the glTF node scale (mm -> m) into the node, not the vertices.
-        expectBoxNear(scene, box, 1.0, 1e-3);
+        // Each format in its default frame: the mm box turned to it (a quarter turn maps box
+        // corners to box corners) and scaled.
+        const core::ExportFrame frame = core::exportFrame(path, {});
+        core::Aabb want;
+        want.expand(frame.point(box.min));
+        want.expand(frame.point(box.max));
+        expectBoxNear(scene, want, 1e-3 / core::mmPerUnit(frame.units));
         if (std::string(ext) != ".stl") {
             unsigned vertices = 0;
             for (unsigned m = 0; m < scene->mNumMeshes; ++m)
@@ -78,7 +84,7 @@ TEST_F(Fixture, ObjStlPlyGlbLoadInAssimp) {
     }
 }
 
-TEST_F(Fixture, DxfHasOne3dFacePerTriangle) {
+TEST_F(Export, DxfHasOne3dFacePerTriangle) {
     const auto path = dir / "sculpture.dxf";
     core::exportMesh(mesh, path);
     std::ifstream in(path);
@@ -93,7 +99,7 @@ TEST_F(Fixture, DxfHasOne3dFacePerTriangle) {
     EXPECT_TRUE(eof);
 }
 
-TEST_F(Fixture, VdbIsALevelSetOfTheSculpture) {
+TEST_F(Export, VdbIsALevelSetOfTheSculpture) {
     const auto path = dir / "sculpture.vdb";
     core::ExportOptions o;
     o.voxelSizeMm = 1.5;
@@ -119,7 +125,7 @@ TEST_F(Fixture, VdbIsALevelSetOfTheSculpture) {
     EXPECT_NEAR(bbox.max().z() * 1.5, box.max.z, 6 * 1.5);
 }
 
-TEST_F(Fixture, BadExportsAreRefusedAndLeaveNothingBehind) {
+TEST_F(Export, BadExportsAreRefusedAndLeaveNothingBehind) {
     EXPECT_THROW(core::exportMesh(mesh, dir / "x.fbx"), core::ExportError);
     EXPECT_THROW(core::exportMesh(core::Mesh{}, dir / "x.obj"), core::ExportError);
     EXPECT_THROW(core::exportMesh(mesh, "/nonexistent-dir/x.obj"), core::ExportError);

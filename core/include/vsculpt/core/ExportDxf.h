@@ -8,8 +8,10 @@
 /// curve whether or not it is planar, so no planarity test (LWPOLYLINE would need one plus an
 /// OCS) decides the entity type. A 3DFACE has four corners; a triangle repeats its third.
 ///
-/// Units: millimetres ($INSUNITS = 4), coordinates written with 17 significant digits so a
-/// reader gets the doubles back exactly. The file is rendered in memory and written with
+/// Units and axes: DxfOptions::frame, Z-up millimetres by default (CAD's world frame); the unit
+/// is written to $INSUNITS (4 mm, 5 cm, 6 m) so CAD scales the drawing on insertion.
+/// Coordinates are written with 17 significant digits so a reader gets the doubles back
+/// exactly. The file is rendered in memory and written with
 /// writeFileAtomically (not durable), so a failed export never leaves a half-written file.
 #pragma once
 
@@ -34,13 +36,16 @@ struct DxfOptions {
     /// Curve i is a closed polyline (last point joins the first) when closedCurves[i] is true;
     /// open when the list is shorter.
     std::vector<bool> closedCurves;
+    /// Frame of every coordinate written, surfaces and curves alike (ExportMesh.h).
+    ExportFrame frame;
 };
 
 /// Writes the surfaces (every triangle of each mesh, counter-clockwise corners kept) and the
-/// curves (object-space points, mm). Throws std::invalid_argument, naming the surface, curve or
-/// layer, for a triangle index out of range, a non-finite coordinate, a curve with fewer than
-/// 2 points, a layer name that is empty or holds a character DXF forbids (<>/\":;?*|=`), or
-/// nothing to write; ExportError naming the path when the file cannot be written.
+/// curves (object-space points, mm), both turned and scaled into options.frame. Throws
+/// std::invalid_argument, naming the surface, curve or layer, for a triangle index out of range, a
+/// non-finite coordinate, a curve with fewer than 2 points, a layer name that is empty or holds a
+/// character DXF forbids (<>/\":;?*|=`), or nothing to write; ExportError naming the path when the
+/// file cannot be written.
 void writeDxf(const std::filesystem::path& path, std::span<const Mesh> surfaces,
               std::span<const std::vector<Vec3>> curves, const DxfOptions& options = {});
 

@@ -25,6 +25,7 @@ packages=(
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev python3-ezdxf
   clang-format
+  help2man
 )
 
 SUDO=""

@@ -12,11 +12,61 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <exception>
 #include <filesystem>
 #include <ostream>
+#include <string>
+#include <vector>
 
 namespace vsculpt::app {
+
+namespace {
+
+size_t editDistance(const std::string& a, const std::string& b) {
+    std::vector<size_t> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j)
+        row[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+        size_t diagonal = row[0];
+        row[0] = i;
+        for (size_t j = 1; j <= b.size(); ++j) {
+            const size_t up = row[j];
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+            diagonal = up;
+        }
+    }
+    return row[b.size()];
+}
+
+// The subcommand or long option (of the program or any subcommand) closest to `typed`, when
+// it is close enough to be a typo (two edits, or a third of its letters); "" otherwise.
+std::string nearestName(const CLI::App& cli, const std::string& typed) {
+    std::vector<std::string> names;
+    auto addOptions = [&](const CLI::App& app) {
+        for (const CLI::Option* o : app.get_options())
+            for (const std::string& n : o->get_lnames())
+                names.push_back("--" + n);
+    };
+    addOptions(cli);
+    for (const CLI::App* sub : cli.get_subcommands({})) {
+        names.push_back(sub->get_name());
+        addOptions(*sub);
+    }
+    std::string best;
+    size_t bestDistance = std::max<size_t>(2, typed.size() / 3) + 1;
+    for (const std::string& n : names) {
+        if (n == typed) continue;
+        const size_t d = editDistance(typed, n);
+        if (d < bestDistance) {
+            bestDistance = d;
+            best = n;
+        }
+    }
+    return best;
+}
+
+}  // namespace
 
 int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
     CLI::App cli{
@@ -29,12 +79,16 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         "them while recording every report; `vsculpt play` replays such a recording\n"
         "(docs/devices.md). `vsculpt sketch` opens the sketch window: a pen-tablet canvas\n"
         "beside the sculpture, sketches turned into solids in it (docs/sketch-mode.md).\n"
+        "Both windows save every step to a project as it is made: --project DIR, else the\n"
+        "last project or a new one under ~/.local/share/vsculpt (docs/projects.md).\n"
         "What is not built yet: generic HID pen tablets are read through hidraw only (not\n"
         "with access \"libusb\")."};
     cli.set_version_flag("--version", "vsculpt 0.1.0");
     std::string configPath = core::defaultConfigPath().string();
-    cli.add_option("--config", configPath, "Config file (JSON with comments; docs/config.md)")
-        ->capture_default_str();
+    cli.add_option("--config", configPath,
+                   "Config file (JSON with comments; docs/config.md). Default: $VSCULPT_CONFIG, "
+                   "else $XDG_CONFIG_HOME/vsculpt/sculpt.json (~/.config/vsculpt/sculpt.json) if "
+                   "it exists, else the built-in defaults");
 
     WindowOptions window;
     cli.add_option(
@@ -165,7 +219,19 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         cli.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         // CLI11 prints help/version to out and usage errors to err with its own exit codes.
-        return cli.exit(e, out, err) == 0 ? 0 : 2;
+        const int code = cli.exit(e, out, err) == 0 ? 0 : 2;
+        if (code != 0) {
+            // A mistyped subcommand or option: name the nearest real one.
+            for (int i = 1; i < argc; ++i) {
+                const std::string arg = argv[i];
+                if (std::string(e.what()).find(arg) == std::string::npos) continue;
+                if (const std::string near = nearestName(cli, arg); !near.empty()) {
+                    err << "vsculpt: did you mean '" << near << "'?\n";
+                    break;
+                }
+            }
+        }
+        return code;
     }
 
     if (*playCmd) return runPlay(play, out, err);

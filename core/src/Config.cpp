@@ -10,10 +10,6 @@
 #include <set>
 #include <sstream>
 
-#ifndef VSCULPT_CONFIG_DIR
-#define VSCULPT_CONFIG_DIR "configs"
-#endif
-
 namespace vsculpt::core {
 
 using nlohmann::json;
@@ -22,8 +18,36 @@ const char* toString(PlacementMode m) {
     return m == PlacementMode::Thesis ? "thesis" : "free";
 }
 
+namespace {
+
+/// $NAME, or nullptr when it is unset or empty.
+const char* envValue(const char* name) {
+    const char* v = std::getenv(name);
+    return v != nullptr && *v != '\0' ? v : nullptr;
+}
+
+}  // namespace
+
+std::filesystem::path userConfigPath() {
+    // XDG Base Directory: a relative $XDG_CONFIG_HOME is invalid and ignored.
+    if (const char* xdg = envValue("XDG_CONFIG_HOME");
+        xdg && std::filesystem::path(xdg).is_absolute())
+        return std::filesystem::path(xdg) / "vsculpt" / "sculpt.json";
+    if (const char* home = envValue("HOME"))
+        return std::filesystem::path(home) / ".config" / "vsculpt" / "sculpt.json";
+    return {};
+}
+
 std::filesystem::path defaultConfigPath() {
-    return std::filesystem::path(VSCULPT_CONFIG_DIR) / "sculpt.json";
+    // Named by the user: used even if it does not exist, so loadConfig reports it (exit 2).
+    if (const char* env = envValue("VSCULPT_CONFIG")) return env;
+    // The per-user file counts when anything is there (a dangling link or a directory too:
+    // loadConfig then says why it cannot be read instead of silently ignoring it).
+    const std::filesystem::path user = userConfigPath();
+    std::error_code ec;
+    if (!user.empty() && std::filesystem::exists(std::filesystem::symlink_status(user, ec)))
+        return user;
+    return {};  // the built-in defaults
 }
 
 namespace {
@@ -423,8 +447,14 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
 }
 
 SculptConfig loadConfig(const std::filesystem::path& path) {
+    if (path.empty()) return SculptConfig{};  // source: "built-in defaults"
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw ConfigError(path.string() + ": cannot open config file");
+    if (!in) {
+        const char* env = envValue("VSCULPT_CONFIG");
+        throw ConfigError(
+            path.string() + ": cannot open config file" +
+            (env && path == std::filesystem::path(env) ? " (named by $VSCULPT_CONFIG)" : ""));
+    }
     std::ostringstream text;
     text << in.rdbuf();
     if (in.bad()) throw ConfigError(path.string() + ": read error");

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/studio/Script.h"
 
+#include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -353,7 +355,11 @@ Script parseScript(std::string_view text, const std::string& source) {
 
 Script loadScript(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw ScriptError(path.string() + ":0: cannot open script");
+    if (!in) {
+        // The whole file: no ":0" line number, and the OS's reason.
+        const int why = errno;
+        throw ScriptError(path.string() + ": cannot open script: " + std::strerror(why));
+    }
     std::ostringstream s;
     s << in.rdbuf();
     return parseScript(s.str(), path.string());

@@ -3,8 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <string>
+
+#include <unistd.h>
 
 using namespace vsculpt::core;
 
@@ -20,8 +25,22 @@ std::string errorOf(const std::string& text) {
 }
 
 TEST(Config, ShippedFileEqualsBuiltInDefaults) {
-    const SculptConfig file = loadConfig(defaultConfigPath());
+    // vsculpt needs no file at all: the shipped one (installed as share/vsculpt/sculpt.json,
+    // a template) must say exactly what the built-in defaults are.
+    const SculptConfig file = loadConfig(std::filesystem::path(VSCULPT_CONFIG_DIR) / "sculpt.json");
     const SculptConfig def;
+    EXPECT_EQ(def.source, "built-in defaults");
+    // Every value configToJson writes (all of them), then field by field for readable failures.
+    EXPECT_EQ(configToJson(file), configToJson(def));
+    EXPECT_EQ(file.interaction.sketchBindings, def.interaction.sketchBindings);
+    EXPECT_EQ(file.render.verticalFovDeg, def.render.verticalFovDeg);
+    EXPECT_EQ(file.render.lensK2, def.render.lensK2);
+    EXPECT_EQ(file.render.lensRedScale, def.render.lensRedScale);
+    EXPECT_EQ(file.render.lensBlueScale, def.render.lensBlueScale);
+    EXPECT_EQ(file.devices.objectStation, def.devices.objectStation);
+    EXPECT_EQ(file.devices.worldFromTrackerTranslationMm,
+              def.devices.worldFromTrackerTranslationMm);
+    EXPECT_EQ(file.devices.worldFromTrackerRotationDeg, def.devices.worldFromTrackerRotationDeg);
     EXPECT_EQ(file.d4Mm, def.d4Mm);
     EXPECT_EQ(file.growth, def.growth);
     EXPECT_EQ(file.spacingOverDiameter, def.spacingOverDiameter);
@@ -262,6 +281,85 @@ TEST(Config, BadDevicesNameTheField) {
                 << "message: " << e.what() << "\nexpected to contain: " << c.expected;
         }
     }
+}
+
+/// Sets (or, with nullptr, unsets) an environment variable for one scope.
+class ScopedEnv {
+  public:
+    ScopedEnv(const char* name, const char* value) : mName(name) {
+        if (const char* old = std::getenv(name)) mOld = old;
+        if (value)
+            ::setenv(name, value, 1);
+        else
+            ::unsetenv(name);
+    }
+    ~ScopedEnv() {
+        if (mOld)
+            ::setenv(mName.c_str(), mOld->c_str(), 1);
+        else
+            ::unsetenv(mName.c_str());
+    }
+
+  private:
+    std::string mName;
+    std::optional<std::string> mOld;
+};
+
+// docs/config.md: --config, else $VSCULPT_CONFIG, else $XDG_CONFIG_HOME/vsculpt/sculpt.json
+// (~/.config/...), else the built-in defaults. Nothing points at the source tree.
+TEST(Config, LookupOrder) {
+    const std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("vsculpt-config-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir / "xdg" / "vsculpt");
+    std::filesystem::create_directories(dir / "home");
+    ScopedEnv home("HOME", (dir / "home").c_str());
+    ScopedEnv xdg("XDG_CONFIG_HOME", (dir / "xdg").c_str());
+    ScopedEnv env("VSCULPT_CONFIG", nullptr);
+
+    // No file anywhere: the built-in defaults, no file needed.
+    EXPECT_EQ(defaultConfigPath(), std::filesystem::path());
+    const SculptConfig builtIn = loadConfig(defaultConfigPath());
+    EXPECT_EQ(builtIn.source, "built-in defaults");
+    EXPECT_EQ(configToJson(builtIn), configToJson(SculptConfig{}));
+
+    // The per-user file.
+    const std::filesystem::path user = dir / "xdg" / "vsculpt" / "sculpt.json";
+    std::ofstream(user) << R"({"tools": {"d4_mm": 12}})";
+    EXPECT_EQ(userConfigPath(), user);
+    EXPECT_EQ(defaultConfigPath(), user);
+    EXPECT_EQ(loadConfig(defaultConfigPath()).d4Mm, 12);
+    {
+        // Without $XDG_CONFIG_HOME (or with a relative one): ~/.config.
+        ScopedEnv noXdg("XDG_CONFIG_HOME", "relative/dir");
+        EXPECT_EQ(userConfigPath(), dir / "home" / ".config" / "vsculpt" / "sculpt.json");
+        EXPECT_EQ(defaultConfigPath(), std::filesystem::path());
+    }
+
+    // $VSCULPT_CONFIG wins over the per-user file; a missing one is an error naming it.
+    const std::filesystem::path named = dir / "named.json";
+    std::ofstream(named) << R"({"tools": {"d4_mm": 14}})";
+    {
+        ScopedEnv set("VSCULPT_CONFIG", named.c_str());
+        EXPECT_EQ(defaultConfigPath(), named);
+        EXPECT_EQ(loadConfig(defaultConfigPath()).d4Mm, 14);
+    }
+    {
+        const std::string missing = (dir / "missing.json").string();
+        ScopedEnv set("VSCULPT_CONFIG", missing.c_str());
+        try {
+            loadConfig(defaultConfigPath());
+            ADD_FAILURE() << "a missing $VSCULPT_CONFIG was accepted";
+        } catch (const ConfigError& e) {
+            EXPECT_EQ(std::string(e.what()),
+                      missing + ": cannot open config file (named by $VSCULPT_CONFIG)");
+        }
+    }
+    {
+        ScopedEnv empty("VSCULPT_CONFIG", "");  // empty counts as unset
+        EXPECT_EQ(defaultConfigPath(), user);
+    }
+    std::filesystem::remove_all(dir);
 }
 
 }  // namespace

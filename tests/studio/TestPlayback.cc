@@ -14,7 +14,7 @@ namespace {
 
 std::unique_ptr<Session> play(const std::string& name) {
     const Script script = loadScript(std::filesystem::path(VSCULPT_EXAMPLES_DIR) / name);
-    auto s = std::make_unique<Session>(core::loadConfig(core::defaultConfigPath()));
+    auto s = std::make_unique<Session>(core::SculptConfig{});  // == configs/sculpt.json
     for (const ScriptCommand& c : script.commands) {
         s->apply(c);
         EXPECT_EQ(s->verifyMesh(), "") << name << ":" << c.line;

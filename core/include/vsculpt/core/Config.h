@@ -204,7 +204,9 @@ class ConfigError : public std::runtime_error {
 /// `sourceName`, the key path and the reason.
 SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceName);
 
-/// Reads and parses a file; a missing or unreadable file is a ConfigError too.
+/// Reads and parses a file; a missing or unreadable file is a ConfigError too. An empty path
+/// means no file: the built-in defaults (SculptConfig{}, source "built-in defaults"), which
+/// equal the values in the shipped configs/sculpt.json (a test checks this).
 SculptConfig loadConfig(const std::filesystem::path& path);
 
 /// The config as JSON text that parseConfig() reads back to the same values (projects store
@@ -214,7 +216,17 @@ std::string configToJson(const SculptConfig& cfg);
 /// Throws ConfigError("<source>: <key>: <reason>") for the first invalid value.
 void validateConfig(const SculptConfig& cfg);
 
-/// The config file shipped in configs/ (absolute path baked in at build time).
+/// The config file to use when no --config names one (docs/config.md):
+///  1. $VSCULPT_CONFIG if set and not empty, whether or not it exists (loadConfig then says
+///     it cannot be opened: a file the user named is never silently skipped);
+///  2. else userConfigPath() if anything is there;
+///  3. else an empty path: the built-in defaults (loadConfig({}) returns SculptConfig{}).
+/// Nothing is compiled in: an installed vsculpt needs neither the source nor the build tree.
+/// Usage: loadConfig(explicitPath.empty() ? defaultConfigPath() : explicitPath).
 std::filesystem::path defaultConfigPath();
+
+/// The per-user config file: $XDG_CONFIG_HOME/vsculpt/sculpt.json when $XDG_CONFIG_HOME is an
+/// absolute path, else $HOME/.config/vsculpt/sculpt.json; empty without either.
+std::filesystem::path userConfigPath();
 
 }  // namespace vsculpt::core

@@ -136,7 +136,6 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
                       "After every edit, compare the incremental mesh with a full rebuild");
     playCmd->add_option("--threads", play.threads, "Worker threads (default: all cores)")
         ->check(CLI::Range(1, 256));
-    playCmd->add_option("--config", play.configPath, "Config file for a new session or project");
     playCmd->add_option("--project", play.projectDir,
                         "Project folder: opened (and recovered) if it exists, created otherwise; "
                         "every edit is journaled");
@@ -209,11 +208,15 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         ->add_option("--spacing", still.spacingMm,
                      "Mesh grid spacing in mm (default: zoom 3's, for fine detail)")
         ->check(CLI::PositiveNumber);
-    renderCmd->add_option("--config", still.configPath, "Config for a script");
     renderCmd->add_option("--yaw", still.yawDeg,
                           "Camera: turn the sculpture about the vertical (z) axis, degrees");
     renderCmd->add_option("--pitch", still.pitchDeg,
                           "Camera: tilt the sculpture about the horizontal (x) axis, degrees");
+
+    // --config is the program's, accepted before or after any subcommand (and never ignored):
+    // an option a subcommand does not know falls through to the program.
+    for (CLI::App* sub : {infoCmd, playCmd, devicesCmd, recordCmd, sketchCmd, renderCmd})
+        sub->fallthrough();
 
     try {
         cli.parse(argc, argv);
@@ -234,6 +237,9 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         return code;
     }
 
+    const std::string givenConfig = cli.count("--config") > 0 ? configPath : "";
+    play.configPath = givenConfig;
+    still.configPath = givenConfig;
     if (*playCmd) return runPlay(play, out, err);
     if (*devicesCmd) return runDevices(configPath, out, err);
     if (*recordCmd) {

@@ -15,6 +15,8 @@ packages=(
   # rendering: GLFW window and GL context, GL loader, PNG screenshots; Xvfb + Mesa (llvmpipe)
   # give tests a real GL context on machines without a GPU
   libglfw3-dev libepoxy-dev libpng-dev xvfb xauth libgl1-mesa-dri
+  # on-screen UI (palette, help overlay, dialogs)
+  libimgui-dev libstb-dev
   # ray-traced stills and picking
   libembree-dev
   # devices: libusb transport, udev for hidraw enumeration; umockdev emulates USB devices

@@ -2,17 +2,20 @@
 #include "vsculpt/app/Cli.h"
 
 #include "vsculpt/app/DeviceCommands.h"
+#include "vsculpt/app/Log.h"
 #include "vsculpt/app/Play.h"
 #include "vsculpt/app/RenderStill.h"
 #include "vsculpt/app/SketchWindow.h"
 #include "vsculpt/app/Summary.h"
 #include "vsculpt/app/Window.h"
 #include "vsculpt/core/Config.h"
+#include "vsculpt/core/NearestName.h"
 #include "vsculpt/core/Sculpture.h"
 
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <ostream>
@@ -22,22 +25,6 @@
 namespace vsculpt::app {
 
 namespace {
-
-size_t editDistance(const std::string& a, const std::string& b) {
-    std::vector<size_t> row(b.size() + 1);
-    for (size_t j = 0; j <= b.size(); ++j)
-        row[j] = j;
-    for (size_t i = 1; i <= a.size(); ++i) {
-        size_t diagonal = row[0];
-        row[0] = i;
-        for (size_t j = 1; j <= b.size(); ++j) {
-            const size_t up = row[j];
-            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
-            diagonal = up;
-        }
-    }
-    return row[b.size()];
-}
 
 // The subcommand or long option (of the program or any subcommand) closest to `typed`, when
 // it is close enough to be a typo (two edits, or a third of its letters); "" otherwise.
@@ -53,17 +40,33 @@ std::string nearestName(const CLI::App& cli, const std::string& typed) {
         names.push_back(sub->get_name());
         addOptions(*sub);
     }
-    std::string best;
-    size_t bestDistance = std::max<size_t>(2, typed.size() / 3) + 1;
-    for (const std::string& n : names) {
-        if (n == typed) continue;
-        const size_t d = editDistance(typed, n);
-        if (d < bestDistance) {
-            bestDistance = d;
-            best = n;
-        }
-    }
-    return best;
+    return core::nearestName(typed, names);
+}
+
+// A number in [lo, hi] (with `unit` in the message). CLI11's own range checks print their
+// bounds with std::to_string: "0.000000 to 1797693134862315708145...", 309 digits.
+CLI::Validator numberIn(double lo, double hi, const std::string& unit, bool loOpen = false) {
+    char text[160];
+    std::snprintf(text, sizeof text, "%s%.12g to %.12g%s", loOpen ? "more than " : "", lo, hi,
+                  unit.empty() ? "" : (" " + unit).c_str());
+    const std::string range = text;
+    return CLI::Validator(
+        [=](std::string& value) -> std::string {
+            double v = 0;
+            size_t used = 0;
+            try {
+                v = std::stod(value, &used);
+            } catch (const std::out_of_range&) {
+                return "'" + value + "' is out of range: give " + range;  // 1e999, 1e-999
+            } catch (const std::exception&) {
+                used = 0;
+            }
+            if (used != value.size() || used == 0) return "'" + value + "' is not a number";
+            if (!(loOpen ? v > lo : v >= lo) || !(v <= hi))
+                return "'" + value + "' is out of range: give " + range;
+            return "";
+        },
+        range);
 }
 
 }  // namespace
@@ -90,13 +93,21 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
                    "else $XDG_CONFIG_HOME/vsculpt/sculpt.json (~/.config/vsculpt/sculpt.json) if "
                    "it exists, else the built-in defaults");
 
+    bool quiet = false;
+    int verbose = 0;
+    auto* quietFlag = cli.add_flag("-q,--quiet", quiet,
+                                   "Only errors and warnings: no progress bars, no summaries");
+    cli.add_flag("-v,--verbose", verbose,
+                 "Also debug messages (configuration used, timings); twice: trace messages")
+        ->excludes(quietFlag);
+
     WindowOptions window;
     cli.add_option(
            "--stereo", window.stereo,
            "Window stereo mode: mono, sbs or anaglyph (default: the config's render.stereo)")
         ->check(CLI::IsMember({"mono", "sbs", "anaglyph"}));
     cli.add_option("--frames", window.frames, "Close the window after N frames (0: never)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(numberIn(0, 1e9, "frames"));
     cli.add_option("--play", window.playScript,
                    "Run a playback script in the window, a command per frame");
     cli.add_option("--shot", window.shotPath,
@@ -142,7 +153,7 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     playCmd
         ->add_option("--export-spacing", play.exportSpacingMm,
                      "Grid spacing in mm for exports and statistics (default: zoom 1's)")
-        ->check(CLI::PositiveNumber);
+        ->check(numberIn(0, 1000, "mm", /*loOpen=*/true));
     playCmd->add_flag("!--no-progress", play.progress, "No progress bar");
     playCmd->add_option("--shot", play.shotPath,
                         "Render the final frame with OpenGL to a PNG (needs a display; "
@@ -163,7 +174,7 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     recordCmd->add_option("--out", record.outPath, "Recording to write (.vsrec)")->required();
     recordCmd
         ->add_option("--seconds", record.seconds, "Stop after this many seconds (default: Ctrl-C)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(numberIn(0, 1e7, "seconds"));
     recordCmd->add_flag("--until-unplugged", record.untilUnplugged,
                         "Stop once every device that connected has been unplugged again");
 
@@ -182,7 +193,7 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
                           "Run a playback script (sketch commands too) in the window, a command "
                           "per frame");
     sketchCmd->add_option("--frames", sketchOpts.frames, "Close after N frames (0: never)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(numberIn(0, 1e9, "frames"));
     sketchCmd->add_option("--shot", sketchOpts.shotPath,
                           "With --frames: save the last frame as PNG");
     sketchCmd->add_flag("--hidden", sketchOpts.hidden, "Do not show the window (automated runs)");
@@ -207,11 +218,22 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     renderCmd
         ->add_option("--spacing", still.spacingMm,
                      "Mesh grid spacing in mm (default: zoom 3's, for fine detail)")
-        ->check(CLI::PositiveNumber);
-    renderCmd->add_option("--yaw", still.yawDeg,
-                          "Camera: turn the sculpture about the vertical (z) axis, degrees");
-    renderCmd->add_option("--pitch", still.pitchDeg,
-                          "Camera: tilt the sculpture about the horizontal (x) axis, degrees");
+        ->check(numberIn(0, 1000, "mm", /*loOpen=*/true));
+    renderCmd
+        ->add_option("--yaw", still.yawDeg,
+                     "Camera: turn the sculpture about the vertical (z) axis, degrees")
+        ->check(numberIn(-3600, 3600, "degrees"));
+    renderCmd
+        ->add_option("--pitch", still.pitchDeg,
+                     "Camera: tilt the sculpture about the horizontal (x) axis, degrees")
+        ->check(numberIn(-3600, 3600, "degrees"));
+    renderCmd
+        ->add_option("--turntable", still.turntable,
+                     "Render N frames of one turn about the vertical axis (one framing), to "
+                     "--out with the frame number: a run of '#' in the name, else -NNN before "
+                     "the extension (turn.png: turn-000.png ...)")
+        ->check(CLI::Range(1, 3600));
+    renderCmd->add_flag("!--no-progress", still.progress, "No progress bar");
 
     // --config is the program's, accepted before or after any subcommand (and never ignored):
     // an option a subcommand does not know falls through to the program.
@@ -237,11 +259,22 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         return code;
     }
 
+    const Verbosity verbosity = quiet          ? Verbosity::Quiet
+                                : verbose >= 2 ? Verbosity::Trace
+                                : verbose == 1 ? Verbosity::Verbose
+                                               : Verbosity::Normal;
+    LogScope log(err, verbosity);
+    play.verbosity = verbosity;
+    still.verbosity = verbosity;
+    record.verbosity = verbosity;
+    window.verbosity = verbosity;
+    sketchOpts.verbosity = verbosity;
+
     const std::string givenConfig = cli.count("--config") > 0 ? configPath : "";
     play.configPath = givenConfig;
     still.configPath = givenConfig;
     if (*playCmd) return runPlay(play, out, err);
-    if (*devicesCmd) return runDevices(configPath, out, err);
+    if (*devicesCmd) return runDevices(configPath, out, err, verbosity);
     if (*recordCmd) {
         record.configPath = configPath;
         return runRecord(record, out, err);
@@ -268,10 +301,10 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         printSummary(sculpture, out);
         return 0;
     } catch (const core::ConfigError& e) {
-        err << "vsculpt: error: " << e.what() << "\n";
+        spdlog::error("{}", e.what());
         return 2;
     } catch (const std::exception& e) {
-        err << "vsculpt: error: " << e.what() << "\n";
+        spdlog::error("{}", e.what());
         return 1;
     }
 }

@@ -46,15 +46,18 @@ extern "C" void onSignal(int) {
 
 }  // namespace
 
-int runDevices(const std::string& configPath, std::ostream& out, std::ostream& err) {
+int runDevices(const std::string& configPath, std::ostream& out, std::ostream& err,
+               Verbosity verbosity) {
+    LogScope log(err, verbosity, "vsculpt devices");
     core::SculptConfig cfg;
     try {
         cfg = core::loadConfig(configPath.empty() ? core::defaultConfigPath()
                                                   : std::filesystem::path(configPath));
     } catch (const core::ConfigError& e) {
-        err << "vsculpt devices: error: " << e.what() << "\n";
+        spdlog::error("{}", e.what());
         return 2;
     }
+    spdlog::debug("config: {}", cfg.source);
     const auto rules = deviceRules(cfg.devices);
     int usable = 0, found = 0;
 
@@ -130,16 +133,17 @@ int runDevices(const std::string& configPath, std::ostream& out, std::ostream& e
 
 int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
     (void)out;  // the recording is the data (written to its file); people read stderr
+    LogScope log(err, o.verbosity, "vsculpt record");
     core::SculptConfig cfg;
     try {
         cfg = core::loadConfig(o.configPath.empty() ? core::defaultConfigPath()
                                                     : std::filesystem::path(o.configPath));
     } catch (const core::ConfigError& e) {
-        err << "vsculpt record: error: " << e.what() << "\n";
+        spdlog::error("{}", e.what());
         return 2;
     }
     if (o.outPath.empty()) {
-        err << "vsculpt record: error: --out FILE is required\n";
+        spdlog::error("--out FILE is required");
         return 2;
     }
     std::unique_ptr<devices::RecordingWriter> writer;
@@ -150,7 +154,7 @@ int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
                 {"config", nlohmann::json::parse(core::configToJson(cfg)).dump()},
                 {"vsculpt", "0.1.0"}});
     } catch (const devices::RecordingError& e) {
-        err << "vsculpt record: error: " << e.what() << "\n";
+        spdlog::error("{}", e.what());
         return 2;
     }
     Studio studio(cfg);
@@ -166,7 +170,7 @@ int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
     std::set<std::string> present;
     bool anyArrived = false;
     int code = 0;
-    err << "vsculpt record: recording to " << o.outPath << " (Ctrl-C to stop)\n" << std::flush;
+    spdlog::info("recording to {} (Ctrl-C to stop)", o.outPath);
     while (!gStop) {
         try {
             live.pump([&](const devices::DeviceEvent& e) {
@@ -175,16 +179,16 @@ int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
                 if (e.kind == devices::DeviceEventKind::Arrived) {
                     present.insert(e.device);
                     anyArrived = true;
-                    err << "vsculpt record: " << e.device << " connected\n" << std::flush;
+                    spdlog::info("{} connected", e.device);
                 } else if (e.kind == devices::DeviceEventKind::Left) {
                     present.erase(e.device);
-                    err << "vsculpt record: " << e.device << " disconnected\n" << std::flush;
+                    spdlog::info("{} disconnected", e.device);
                 }
             });
             live.send(input.takeOutput());
             writer->flush();
         } catch (const devices::RecordingError& e) {
-            err << "vsculpt record: error: " << e.what() << "\n";
+            spdlog::error("{}", e.what());
             code = 1;
             break;
         }
@@ -192,9 +196,9 @@ int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (!warnedNone && !anyArrived && elapsed > 2.0) {
             warnedNone = true;
-            err << "vsculpt record: no supported device is connected; waiting for one ("
-                << "`vsculpt devices` lists what is there)\n"
-                << std::flush;
+            spdlog::info(
+                "no supported device is connected; waiting for one (`vsculpt devices` "
+                "lists what is there)");
         }
         if (o.seconds > 0 && elapsed >= o.seconds) break;
         if (o.untilUnplugged && anyArrived && present.empty()) break;
@@ -207,12 +211,10 @@ int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
     char hash[17];
     std::snprintf(hash, sizeof hash, "%016llx",
                   static_cast<unsigned long long>(core::canonicalMeshHash(mesh)));
-    err << input.summary();
-    err << "vsculpt record: wrote " << writer->eventsWritten() << " event(s) to " << o.outPath
-        << ", mesh hash " << hash << "\n";
+    logLines(spdlog::level::info, input.summary());
+    spdlog::info("wrote {} event(s) to {}, mesh hash {}", writer->eventsWritten(), o.outPath, hash);
     if (live.droppedReports() > 0)
-        err << "vsculpt record: warning: " << live.droppedReports()
-            << " report(s) dropped (queue full)\n";
+        spdlog::warn("{} report(s) dropped (queue full)", live.droppedReports());
     return code;
 }
 

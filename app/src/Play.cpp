@@ -2,6 +2,8 @@
 #include "vsculpt/app/Play.h"
 
 #include "vsculpt/app/CliChecks.h"
+#include "vsculpt/app/Log.h"
+#include "vsculpt/app/ProgressBar.h"
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/core/ExportDxf.h"
 #include "vsculpt/core/ExportMesh.h"
@@ -11,14 +13,12 @@
 #include "vsculpt/render/Shot.h"
 
 #include <tbb/global_control.h>
-#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
-#include <iostream>
 #include <memory>
 #include <optional>
 #include <ostream>
@@ -50,33 +50,6 @@ double percentile(std::vector<double> v, double q) {
     std::sort(v.begin(), v.end());
     return v[std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5))];
 }
-
-/// A one-line progress bar on stderr, redrawn at most 10 times a second.
-class Progress {
-  public:
-    Progress(std::ostream& err, bool enabled, size_t total)
-        : mErr(err), mEnabled(enabled && total > 0), mTotal(total) {}
-    void update(size_t done, int line) {
-        if (!mEnabled) return;
-        const auto now = std::chrono::steady_clock::now();
-        if (done < mTotal && now - mLast < std::chrono::milliseconds(100)) return;
-        mLast = now;
-        const int width = 30, filled = int(double(done) / double(mTotal) * width);
-        mErr << "\r[" << std::string(size_t(filled), '#')
-             << std::string(size_t(width - filled), ' ') << "] " << (done * 100 / mTotal)
-             << "% (line " << line << ")" << std::flush;
-        mDrawn = true;
-    }
-    ~Progress() {
-        if (mDrawn) mErr << "\r" << std::string(60, ' ') << "\r" << std::flush;
-    }
-
-  private:
-    std::ostream& mErr;
-    bool mEnabled, mDrawn = false;
-    size_t mTotal;
-    std::chrono::steady_clock::time_point mLast{};
-};
 
 nlohmann::json statsJson(const Studio& studio, const Mesh& mesh, const PlayOptions& o,
                          double exportSpacing) {
@@ -143,6 +116,8 @@ nlohmann::json statsJson(const Studio& studio, const Mesh& mesh, const PlayOptio
 }  // namespace
 
 int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
+    LogScope log(err, o.verbosity, "vsculpt play");
+    const auto startTime = std::chrono::steady_clock::now();
     // Bad input first, before any work: script, config, output formats.
     Script script;
     std::optional<devices::Recording> recording;
@@ -164,15 +139,16 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
                                                   : std::filesystem::path(o.configPath));
         }
     } catch (const std::exception& e) {
-        err << "vsculpt play: error: " << e.what() << "\n";
+        spdlog::error("{}", e.what());
         return 2;
     }
+    spdlog::debug("config: {}", cfg.source);
     ExportOptions exportFrameOptions;
     try {
         if (!o.up.empty()) exportFrameOptions.up = parseUpAxis(o.up);
         if (!o.units.empty()) exportFrameOptions.units = parseLengthUnit(o.units);
     } catch (const std::invalid_argument& e) {
-        err << "vsculpt play: error: " << e.what() << "\n";
+        spdlog::error("{}", e.what());
         return 2;
     }
     for (const std::string& path : o.outputs) {
@@ -181,8 +157,9 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
                        [](unsigned char c) { return char(std::tolower(c)); });
         const auto& known = exportExtensions();
         if (std::find(known.begin(), known.end(), ext) == known.end()) {
-            err << "vsculpt play: error: --out " << path << ": unknown format '" << ext
-                << "' (use .obj, .stl, .ply, .glb, .dxf or .vdb)\n";
+            spdlog::error(
+                "--out {}: unknown format '{}' (use .obj, .stl, .ply, .glb, .dxf or .vdb)", path,
+                ext);
             return 2;
         }
         // --up and --units serve every --out of the run, so one .glb among them is no reason
@@ -190,9 +167,10 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
         if (formatFixesFrame(path) &&
             (exportFrameOptions.up.value_or(UpAxis::Y) != UpAxis::Y ||
              exportFrameOptions.units.value_or(LengthUnit::Metre) != LengthUnit::Metre))
-            err << "vsculpt play: note: --out " << path
-                << ": glTF is always +Y up in metres (glTF 2.0); --up and --units apply to the "
-                   "other outputs\n";
+            spdlog::info(
+                "note: --out {}: glTF is always +Y up in metres (glTF 2.0); --up and "
+                "--units apply to the other outputs",
+                path);
     }
     render::ShotOptions shot;
     if (!o.shotPath.empty()) {
@@ -201,7 +179,7 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
             std::tie(shot.width, shot.height) = parseImageSize(o.shotSize, "--shot-size");
             requirePngPath(o.shotPath, "--shot");
         } catch (const std::exception& e) {
-            err << "vsculpt play: error: " << e.what() << "\n";
+            spdlog::error("{}", e.what());
             return 2;
         }
     }
@@ -220,7 +198,7 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
             try {
                 core::ensureWritable(path);
             } catch (const std::exception& e) {
-                err << "vsculpt play: error: " << e.what() << "\n";
+                spdlog::error("{}", e.what());
                 return 2;
             }
         }
@@ -228,9 +206,10 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
 
     if (!o.configPath.empty() && !o.projectDir.empty() &&
         std::filesystem::exists(core::snapshotPath(o.projectDir)))
-        err << "vsculpt play: note: " << o.projectDir
-            << " is an existing project: it keeps its sculpture settings (tools, field, zoom); "
-               "--config gives the machine's (bindings, display, devices)\n";
+        spdlog::info(
+            "note: {} is an existing project: it keeps its sculpture settings (tools, "
+            "field, zoom); --config gives the machine's (bindings, display, devices)",
+            o.projectDir);
     RigOptions ro;
     ro.project = o.projectDir.empty() ? ProjectChoice::None : ProjectChoice::Given;
     ro.projectDir = o.projectDir;
@@ -239,22 +218,21 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
     try {
         rig = std::make_unique<Rig>(cfg, ro, err);
     } catch (const std::exception& e) {
-        err << "vsculpt play: error: " << e.what() << "\n";
+        spdlog::error("{}", e.what());
         return 2;
     }
     Studio& studio = rig->studio();
     const Session* session = &studio.session();
-    if (!session->recoveryWarning().empty())
-        err << "vsculpt play: warning: " << session->recoveryWarning() << "\n";
+    if (!session->recoveryWarning().empty()) spdlog::warn("{}", session->recoveryWarning());
     if (session->recoveredEdits() > 0)
-        err << "vsculpt play: recovered " << session->recoveredEdits()
-            << " edit(s) from the project journal\n";
+        spdlog::info("recovered {} edit(s) from the project journal", session->recoveredEdits());
 
     std::string deviceSummary;
     if (recording) {
         // Device replay: the same decoders and mapping as a live run, event by event.
         DeviceInput& input = rig->replayDevices(recording->devices);
-        Progress progress(err, o.progress && ::isatty(2), recording->events.size());
+        ProgressBar progress(err, o.progress && log.progressAllowed() && stderrIsTerminal(),
+                             recording->events.size(), "event");
         size_t done = 0;
         for (const devices::DeviceEvent& e : recording->events) {
             const bool wasInStroke = session->inStroke();
@@ -262,20 +240,21 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
             if (o.check && wasInStroke && !session->inStroke()) {
                 const std::string diff = session->verifyMesh();
                 if (!diff.empty()) {
-                    err << "\nvsculpt play: " << o.script << ": event " << done + 1
-                        << ": --check failed: " << diff << "\n";
+                    progress.clear();
+                    spdlog::error("{}: event {}: --check failed: {}", o.script, done + 1, diff);
                     return 1;
                 }
             }
             ++done;
-            progress.update(done, static_cast<int>(done));
+            progress.update(done, long(done));
         }
         studio.endStroke();
         input.takeOutput();
         deviceSummary = input.summary();
     }
     if (!recording) {
-        Progress progress(err, o.progress && ::isatty(2), script.commands.size());
+        ProgressBar progress(err, o.progress && log.progressAllowed() && stderrIsTerminal(),
+                             script.commands.size(), "line");
         size_t done = 0;
         for (const ScriptCommand& c : script.commands) {
             try {
@@ -283,39 +262,49 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
                 if (o.check && edited) {
                     const std::string diff = session->verifyMesh();
                     if (!diff.empty()) {
-                        err << "\nvsculpt play: " << script.source << ":" << c.line
-                            << ": --check failed: " << diff << "\n";
+                        progress.clear();
+                        spdlog::error("{}:{}: --check failed: {}", script.source, c.line, diff);
                         return 1;
                     }
                 }
             } catch (const SessionError& e) {
-                err << "\nvsculpt play: error: " << script.source << ":" << c.line << ": "
-                    << e.what() << "\n";
+                progress.clear();
+                spdlog::error("{}:{}: {}", script.source, c.line, e.what());
                 return 2;
             } catch (const std::invalid_argument& e) {
-                err << "\nvsculpt play: error: " << script.source << ":" << c.line << ": "
-                    << e.what() << "\n";
+                progress.clear();
+                spdlog::error("{}:{}: {}", script.source, c.line, e.what());
                 return 2;
             } catch (const std::out_of_range& e) {
                 // A script naming what is not there (a stroke id to reuse, a page): its input.
-                err << "\nvsculpt play: error: " << script.source << ":" << c.line << ": "
-                    << e.what() << "\n";
+                progress.clear();
+                spdlog::error("{}:{}: {}", script.source, c.line, e.what());
                 return 2;
             } catch (const std::exception& e) {
-                err << "\nvsculpt play: error: " << script.source << ":" << c.line << ": "
-                    << e.what() << "\n";
+                progress.clear();
+                spdlog::error("{}:{}: {}", script.source, c.line, e.what());
                 return 1;
             }
             progress.update(++done, c.line);
         }
     }
 
+    auto secondsSince = [](std::chrono::steady_clock::time_point t) {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    };
+    spdlog::debug("sculpted in {}", formatDuration(secondsSince(startTime)));
     try {
-        if (!o.projectDir.empty()) studio.save();
+        if (!o.projectDir.empty()) {
+            studio.save();
+            spdlog::debug("saved {}", o.projectDir);
+        }
         const double spacing = o.exportSpacingMm > 0
                                    ? o.exportSpacingMm
                                    : zoomSpacing(cfg, session->sculpture().levels(), 1);
+        const auto meshStart = std::chrono::steady_clock::now();
         const Mesh mesh = session->wholeMesh(spacing);
+        spdlog::debug("meshed the whole sculpture at {:.3g} mm in {}", spacing,
+                      formatDuration(secondsSince(meshStart)));
         for (const std::string& path : o.outputs) {
             ExportOptions eo = exportFrameOptions;
             eo.voxelSizeMm = spacing;
@@ -334,34 +323,34 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
             } else {
                 exportMesh(mesh, path, eo);
             }
+            spdlog::info("wrote {}", path);
         }
         if (!o.shotPath.empty()) {
             // The final frame: the mesh on show at the current zoom.
             render::writePng(render::renderShot(session->view().mesh(), shot), o.shotPath);
-            err << "vsculpt play: wrote " << o.shotPath << " (" << o.stereo << ")\n";
+            spdlog::info("wrote {} ({})", o.shotPath, o.stereo);
         }
         const nlohmann::json stats = statsJson(studio, mesh, o, spacing);
         if (o.statsPath == "-") {
             out << stats.dump(2) << "\n";
         } else if (!o.statsPath.empty()) {
-            std::ofstream f(o.statsPath);
-            f << stats.dump(2) << "\n";
-            if (!f) throw std::runtime_error(o.statsPath + ": cannot write statistics");
+            core::writeFileAtomically(o.statsPath, stats.dump(2) + "\n", /*durable=*/false);
         }
         // stdout carries machine output only (--stats -): what a person reads goes to stderr.
-        if (recording) err << deviceSummary;
-        err << "vsculpt play: "
-            << (recording ? std::to_string(recording->events.size()) + " device event(s), "
-                          : std::to_string(script.commands.size()) + " command(s), ")
-            << stats["skeletons"].get<size_t>() << " skeletons, " << mesh.triangleCount()
-            << " triangles, " << (stats["watertight"].get<bool>() ? "watertight" : "open")
-            << ", mesh hash " << stats["mesh_hash"].get<std::string>() << "\n";
+        if (recording) logLines(spdlog::level::info, deviceSummary);
+        spdlog::info("{}{} skeletons, {} triangles, {}, mesh hash {}, {}",
+                     recording ? std::to_string(recording->events.size()) + " device event(s), "
+                               : std::to_string(script.commands.size()) + " command(s), ",
+                     stats["skeletons"].get<size_t>(), mesh.triangleCount(),
+                     stats["watertight"].get<bool>() ? "watertight" : "open",
+                     stats["mesh_hash"].get<std::string>(),
+                     formatDuration(secondsSince(startTime)));
     } catch (const SessionError& e) {
         // Refused input (an export spacing the grid cannot hold): the user's to change.
-        err << "vsculpt play: error: " << e.what() << "\n";
+        spdlog::error("{}", e.what());
         return 2;
     } catch (const std::exception& e) {
-        err << "vsculpt play: error: " << e.what() << "\n";
+        spdlog::error("{}", e.what());
         return 1;
     }
     return 0;

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/core/Config.h"
 
+#include "vsculpt/core/NearestName.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -95,7 +97,13 @@ class Section {
     void rejectUnknown() const {
         for (auto it = mObj.begin(); it != mObj.end(); ++it) {
             if (it.key().rfind("_", 0) == 0) continue;  // "_comment" style keys are allowed
-            if (!mSeen.count(it.key())) fail(keyPath(it.key()), "unknown key");
+            if (mSeen.count(it.key())) continue;
+            // Every key this section knows was looked up (find() remembers it, present or
+            // not): the nearest of those is what a typo meant.
+            const std::vector<std::string> known(mSeen.begin(), mSeen.end());
+            const std::string near = nearestName(it.key(), known);
+            fail(keyPath(it.key()),
+                 near.empty() ? "unknown key" : "unknown key (did you mean '" + near + "'?)");
         }
     }
 
@@ -404,8 +412,12 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
         if (!b->is_object()) inter.fail(where, "expected an object of action: key name");
         for (auto it = b->begin(); it != b->end(); ++it) {
             const std::string key = where + "." + it.key();
-            if (std::find(actions.begin(), actions.end(), it.key()) == actions.end())
-                inter.fail(key, std::string("unknown action (see ") + doc + ")");
+            if (std::find(actions.begin(), actions.end(), it.key()) == actions.end()) {
+                const std::string near = nearestName(it.key(), actions);
+                inter.fail(key, std::string("unknown action") +
+                                    (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                                    " (see " + doc + ")");
+            }
             if (!it->is_string() || it->get<std::string>().empty())
                 inter.fail(key, "expected a key name such as \"TAB\" or \"Z\"");
             out[it.key()] = it->get<std::string>();
@@ -463,9 +475,9 @@ SculptConfig loadConfig(const std::filesystem::path& path) {
 
 const std::vector<std::string>& bindableActions() {
     static const std::vector<std::string> a = {
-        "cycle_tool", "step",   "zoom_in", "zoom_out", "overview", "undo",   "redo",  "quit",
-        "size_1",     "size_2", "size_3",  "size_4",   "size_5",   "size_6", "size_7",
-        "save",       "save_as", "export", "new_project"};
+        "cycle_tool", "step",   "zoom_in", "zoom_out", "overview",   "undo",   "redo",
+        "quit",       "size_1", "size_2",  "size_3",   "size_4",     "size_5", "size_6",
+        "size_7",     "save",   "save_as", "export",   "new_project"};
     return a;
 }
 

@@ -13,11 +13,12 @@
 #include <condition_variable>
 #include <cstring>
 #include <fstream>
-#include <iostream>
 #include <mutex>
 #include <set>
 #include <sstream>
 #include <thread>
+
+#include <spdlog/spdlog.h>
 
 namespace fs = std::filesystem;
 
@@ -224,12 +225,11 @@ struct HidrawTransport::Impl {
             if (fd < 0) fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
             if (fd < 0) {
                 if (warned.insert(node.node).second)
-                    std::cerr << "vsculpt: device '" << rule->name << "' (" << path.string()
-                              << "): cannot open: " << std::strerror(errno)
-                              << (errno == EACCES
-                                      ? " (install configs/70-vsculpt.rules, see docs/devices.md)"
-                                      : "")
-                              << "\n";
+                    spdlog::warn("device '{}' ({}): cannot open: {}{}", rule->name, path.string(),
+                                 std::strerror(errno),
+                                 errno == EACCES
+                                     ? " (install configs/70-vsculpt.rules, see docs/devices.md)"
+                                     : "");
                 continue;
             }
             warned.erase(node.node);
@@ -280,8 +280,8 @@ struct HidrawTransport::Impl {
             if (silent && !d->stalled) {
                 d->stalled = true;
                 ++d->counters.stalls;
-                std::cerr << "vsculpt: device '" << d->rule->name << "': no data for "
-                          << options.stallTimeoutS << " s (stalled?)\n";
+                spdlog::warn("device '{}': no data for {} s (stalled?)", d->rule->name,
+                             options.stallTimeoutS);
                 push(DeviceEventKind::Stalled, d->rule->name);
             } else if (!silent && d->stalled) {
                 d->stalled = false;

@@ -6,11 +6,12 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
-#include <iostream>
 #include <map>
 #include <mutex>
 #include <set>
 #include <thread>
+
+#include <spdlog/spdlog.h>
 
 namespace vsculpt::devices {
 
@@ -214,7 +215,7 @@ struct UsbTransport::Impl {
     void warnOnce(libusb_device* dev, const std::string& what) {
         const auto key =
             std::make_pair(int(libusb_get_bus_number(dev)), int(libusb_get_device_address(dev)));
-        if (warnedOpenFailures.insert(key).second) std::cerr << "vsculpt: " << what << "\n";
+        if (warnedOpenFailures.insert(key).second) spdlog::warn("{}", what);
     }
 
     void open(libusb_device* dev) {
@@ -340,8 +341,7 @@ struct UsbTransport::Impl {
         }
         if (busy()) {
             // A callback that never came would touch freed memory: leak instead.
-            std::cerr << "vsculpt: device '" << d.rule->name
-                      << "': transfers did not cancel; leaking them\n";
+            spdlog::error("device '{}': transfers did not cancel; leaking them", d.rule->name);
             d.transfers.clear();
         }
         for (libusb_transfer* t : d.transfers)
@@ -412,8 +412,8 @@ struct UsbTransport::Impl {
                     std::lock_guard lock(mutex);
                     ++d->counters.stalls;
                 }
-                std::cerr << "vsculpt: device '" << d->rule->name << "': no data for "
-                          << options.stallTimeoutS << " s (stalled?)\n";
+                spdlog::warn("device '{}': no data for {} s (stalled?)", d->rule->name,
+                             options.stallTimeoutS);
                 push(DeviceEventKind::Stalled, d->rule->name);
             }
             // Without hotplug, and as a safety net for devices that failed to open (e.g. the

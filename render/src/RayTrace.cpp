@@ -6,8 +6,10 @@
 #include <embree3/rtcore.h>
 #include <tbb/parallel_for.h>
 
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <numbers>
 #include <random>
 
@@ -108,7 +110,7 @@ Image rayTrace(const core::Mesh& mesh, const RayTraceOptions& o) {
     if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192)
         throw RenderError("image size must be between 16 and 8192 pixels per side");
     const RayScene scene(mesh);
-    const core::Aabb box = core::meshBounds(mesh);
+    const core::Aabb box = o.frameBox ? *o.frameBox : core::meshBounds(mesh);
     StereoDisplay d;
     d.ipdMm = 0;
     const glm::dmat4 worldFromHead =
@@ -126,6 +128,9 @@ Image rayTrace(const core::Mesh& mesh, const RayTraceOptions& o) {
     img.width = o.width;
     img.height = o.height;
     img.rgba.resize(size_t(o.width) * o.height * 4);
+    std::atomic<int> rowsDone{0};
+    std::mutex progressMutex;
+    int rowsReported = 0;  // guarded by progressMutex: reports only ever go up
     tbb::parallel_for(0, o.height, [&](int y) {
         std::mt19937 rng(o.seed * 2654435761u + unsigned(y));
         std::uniform_real_distribution<double> U(0, 1);
@@ -181,6 +186,20 @@ Image rayTrace(const core::Mesh& mesh, const RayTraceOptions& o) {
             const uint8_t v = uint8_t(std::lround(255 * std::pow(g, 1 / 2.2)));
             px[0] = px[1] = px[2] = v;
             px[3] = 255;
+        }
+        const int done = ++rowsDone;
+        if (o.progress) {
+            // A busy reporter skips this row's report, except the last one: never wait here.
+            std::unique_lock lock(progressMutex, std::defer_lock);
+            if (done == o.height)
+                lock.lock();
+            else if (!lock.try_lock())
+                return;
+            const int now = rowsDone.load();
+            if (now > rowsReported) {
+                rowsReported = now;
+                o.progress(now);
+            }
         }
     });
     return img;

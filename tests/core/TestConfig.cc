@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/core/Config.h"
+#include "vsculpt/core/NearestName.h"
 
 #include <gtest/gtest.h>
 
@@ -8,6 +9,7 @@
 #include <fstream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -234,6 +236,36 @@ TEST(Config, DevicesSection) {
     // The built-in table is used when the config names no device; it is valid itself.
     EXPECT_TRUE(SculptConfig().devices.match.empty());
     EXPECT_FALSE(knownDeviceMatches().empty());
+}
+
+TEST(Config, MistypedKeysAndActionsSuggestTheNearestKnownOne) {
+    // The suggestion comes from the keys the section really has, at every depth.
+    EXPECT_NE(errorOf(R"({"tools": {"grwoth": 1.5}})")
+                  .find("tools.grwoth: unknown key (did you mean 'growth'?)"),
+              std::string::npos);
+    EXPECT_NE(errorOf(R"({"tolos": {}})").find("tolos: unknown key (did you mean 'tools'?)"),
+              std::string::npos);
+    EXPECT_NE(errorOf(R"({"render": {"lens": {"k3": 0}}})")
+                  .find("render.lens.k3: unknown key (did you mean 'k1'?)"),
+              std::string::npos);
+    EXPECT_NE(errorOf(R"({"interaction": {"bindings": {"undoo": "U"}}})")
+                  .find("interaction.bindings.undoo: unknown action (did you mean 'undo'?)"),
+              std::string::npos);
+    // Nothing close: no guess.
+    const std::string far = errorOf(R"({"render": {"xyzzyplugh": 1}})");
+    EXPECT_NE(far.find("render.xyzzyplugh: unknown key"), std::string::npos) << far;
+    EXPECT_EQ(far.find("did you mean"), std::string::npos) << far;
+}
+
+TEST(NearestName, EditDistanceAndThreshold) {
+    EXPECT_EQ(editDistance("kitten", "sitting"), 3u);
+    EXPECT_EQ(editDistance("", "abc"), 3u);
+    EXPECT_EQ(editDistance("same", "same"), 0u);
+    const std::vector<std::string> names{"growth", "levels", "d4_mm"};
+    EXPECT_EQ(nearestName("grwoth", names), "growth");  // two edits: a transposition
+    EXPECT_EQ(nearestName("levls", names), "levels");
+    EXPECT_EQ(nearestName("zzzzzz", names), "");
+    EXPECT_EQ(nearestName("growth", names), "");  // itself is not a typo
 }
 
 TEST(Config, BadDevicesNameTheField) {

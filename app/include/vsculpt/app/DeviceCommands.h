@@ -5,6 +5,8 @@
 /// `vsculpt play FILE` replays to the same sculpture).
 #pragma once
 
+#include "vsculpt/app/Log.h"
+
 #include <iosfwd>
 #include <string>
 
@@ -13,7 +15,8 @@ namespace vsculpt::app {
 /// Lists connected USB and hidraw devices, which the config's rules match and whether
 /// vsculpt can open them; says plainly when nothing usable is there. Exit code 0, or 2 for a
 /// bad config.
-int runDevices(const std::string& configPath, std::ostream& out, std::ostream& err);
+int runDevices(const std::string& configPath, std::ostream& out, std::ostream& err,
+               Verbosity verbosity = Verbosity::Normal);
 
 struct RecordOptions {
     std::string outPath;          ///< the recording (.vsrec)
@@ -21,6 +24,7 @@ struct RecordOptions {
     double seconds = 0;           ///< stop after this long (0: on Ctrl-C only)
     bool untilUnplugged = false;  ///< stop once every device that arrived has left again
     bool alwaysEngaged = true;    ///< the thesis: the tool acts whenever it moves
+    Verbosity verbosity = Verbosity::Normal;  ///< --quiet / --verbose (Log.h)
 };
 
 /// Exit code 0, 1 on a write failure, 2 on bad input (config, output path).

@@ -3,6 +3,8 @@
 /// @brief `vsculpt play SCRIPT`: a headless sculpting session driven by a playback script.
 #pragma once
 
+#include "vsculpt/app/Log.h"
+
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -19,6 +21,7 @@ struct PlayOptions {
     std::string projectDir;            ///< "" = no project
     double exportSpacingMm = 0;        ///< grid spacing of exports and stats (0 = zoom 1's)
     bool progress = true;              ///< progress bar on a terminal
+    Verbosity verbosity = Verbosity::Normal;
     std::string shotPath;              ///< PNG of the final frame ("" = none)
     std::string stereo = "mono";       ///< mono, sbs or anaglyph
     std::string shotSize = "960x540";  ///< WIDTHxHEIGHT in pixels

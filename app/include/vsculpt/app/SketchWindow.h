@@ -5,6 +5,8 @@
 /// solids; drawing over the sculpture puts surface lines on it.
 #pragma once
 
+#include "vsculpt/app/Log.h"
+
 #include "vsculpt/render/Shot.h"
 #include "vsculpt/render/Viewer.h"
 
@@ -16,7 +18,8 @@
 namespace vsculpt::app {
 
 struct SketchWindowOptions {
-    std::string configPath;  ///< "" = configs/sculpt.json
+    std::string configPath;                   ///< "" = configs/sculpt.json
+    Verbosity verbosity = Verbosity::Normal;  ///< --quiet / --verbose (Log.h)
     std::string projectDir;  ///< "" = the last project or a new autosave project (Rig.h)
     bool noProject = false;  ///< nothing saved (a scratch session)
     int width = 1280, height = 720;

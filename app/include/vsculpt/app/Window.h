@@ -4,14 +4,17 @@
 /// the pen and the 3D mouse (docs/window.md lists the bindings).
 #pragma once
 
+#include "vsculpt/app/Log.h"
+
 #include <iosfwd>
 #include <string>
 
 namespace vsculpt::app {
 
 struct WindowOptions {
-    std::string configPath;  ///< "" = configs/sculpt.json
-    std::string stereo;      ///< "" = the config's render.stereo
+    std::string configPath;                   ///< "" = configs/sculpt.json
+    Verbosity verbosity = Verbosity::Normal;  ///< --quiet / --verbose (Log.h)
+    std::string stereo;                       ///< "" = the config's render.stereo
     int width = 1280, height = 800;
     int frames = 0;          ///< stop after this many frames (0: until closed) — tests, demos
     std::string playScript;  ///< run this script first (one command per frame)

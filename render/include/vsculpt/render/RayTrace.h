@@ -8,6 +8,7 @@
 #include "vsculpt/core/Mesh.h"
 #include "vsculpt/render/Shot.h"
 
+#include <functional>
 #include <memory>
 #include <optional>
 
@@ -44,6 +45,12 @@ struct RayTraceOptions {
     int aoSamples = 16;     ///< hemisphere rays per pixel for ambient occlusion
     int shadowSamples = 8;  ///< rays per pixel towards the area light
     unsigned seed = 1;      ///< same seed, same image
+    /// Frame this box (object mm) instead of the mesh's bounds: a turntable keeps one framing
+    /// for every frame, so the sculpture turns in place instead of jumping.
+    std::optional<core::Aabb> frameBox;
+    /// Told the number of finished rows now and then (from worker threads, one call at a
+    /// time; the last call reports every row). For progress bars.
+    std::function<void(int rowsDone)> progress;
 };
 
 /// Renders the mesh from the front, like renderShot(mono). Pixels where no surface is hit

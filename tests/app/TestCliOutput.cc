@@ -1,0 +1,244 @@
+// SPDX-License-Identifier: MIT
+// What the program says and where: levels (--quiet, --verbose) through spdlog, pure machine
+// output on stdout, rounded times, progress bars, numbers people can read, turntables.
+#include "vsculpt/app/Cli.h"
+#include "vsculpt/app/Log.h"
+#include "vsculpt/app/ProgressBar.h"
+#include "vsculpt/app/RenderStill.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CliRun {
+    int code;
+    std::string out, err;
+};
+
+CliRun run(std::vector<std::string> args) {
+    std::vector<const char*> argv{"vsculpt"};
+    for (const std::string& a : args)
+        argv.push_back(a.c_str());
+    std::ostringstream out, err;
+    const int code = vsculpt::app::runCli(int(argv.size()), argv.data(), out, err);
+    return {code, out.str(), err.str()};
+}
+
+const std::string kSnowman = std::string(VSCULPT_EXAMPLES_DIR) + "/snowman.vsc";
+
+fs::path scratchDir(const std::string& name) {
+    const fs::path d = fs::temp_directory_path() /
+                       ("vsculpt-cli-output-" + std::to_string(::getpid()) + "-" + name);
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// Width and height from a PNG's IHDR chunk (bytes 16..23, big-endian).
+std::pair<int, int> pngSize(const std::string& bytes) {
+    auto be32 = [&](size_t at) {
+        return int((uint8_t(bytes[at]) << 24) | (uint8_t(bytes[at + 1]) << 16) |
+                   (uint8_t(bytes[at + 2]) << 8) | uint8_t(bytes[at + 3]));
+    };
+    if (bytes.size() < 24 || bytes.compare(1, 3, "PNG") != 0) return {0, 0};
+    return {be32(16), be32(20)};
+}
+
+TEST(CliOutput, NormalRunsSayWhatWasWrittenWithARoundedTime) {
+    const fs::path dir = scratchDir("normal");
+    const CliRun r = run({"play", kSnowman, "--out", (dir / "a.obj").string()});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;  // people's lines go to stderr
+    EXPECT_NE(r.err.find("vsculpt play: wrote " + (dir / "a.obj").string()), std::string::npos)
+        << r.err;
+    // The summary ends with the run's time as people read it: "850 ms" or "12.4 s".
+    const std::regex summary(R"(vsculpt play: 22 command\(s\), .* mesh hash [0-9a-f]{16}, )"
+                             R"((\d{1,3} ms|\d+\.\d s|\d+ min \d\d s)\n)");
+    EXPECT_TRUE(std::regex_search(r.err, summary)) << r.err;
+    EXPECT_EQ(r.err.find("debug:"), std::string::npos) << r.err;
+    fs::remove_all(dir);
+}
+
+TEST(CliOutput, QuietKeepsOnlyErrorsAndWarnings) {
+    const fs::path dir = scratchDir("quiet");
+    CliRun r = run({"play", kSnowman, "--out", (dir / "a.stl").string(), "--quiet"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    EXPECT_EQ(r.out, "");
+    EXPECT_TRUE(fs::exists(dir / "a.stl"));
+    // Before the subcommand as well, and errors still get through.
+    r = run({"-q", "play", (dir / "missing.vsc").string()});
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("vsculpt play: error: "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("missing.vsc"), std::string::npos) << r.err;
+    // --stats - stays pure JSON whatever the level.
+    r = run({"play", kSnowman, "--stats", "-", "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NO_THROW((void)nlohmann::json::parse(r.out)) << r.out;
+    fs::remove_all(dir);
+}
+
+TEST(CliOutput, VerboseAddsDebugMessagesAndConflictsWithQuiet) {
+    const fs::path dir = scratchDir("verbose");
+    CliRun r = run({"play", kSnowman, "--out", (dir / "a.ply").string(), "--verbose"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("vsculpt play: debug: config: "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("vsculpt play: debug: meshed the whole sculpture at 2.81 mm"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("vsculpt play: wrote "), std::string::npos) << r.err;
+    r = run({"-q", "-v", "info"});
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("excludes"), std::string::npos) << r.err;
+    fs::remove_all(dir);
+}
+
+TEST(CliOutput, MessagesAreRestoredAfterARun) {
+    // A run points spdlog at its own error stream; afterwards nothing may still write there.
+    const auto before = spdlog::default_logger();
+    {
+        std::ostringstream err;
+        vsculpt::app::LogScope scope(err, vsculpt::app::Verbosity::Verbose, "vsculpt test");
+        spdlog::info("hello");
+        spdlog::debug("details {}", 3);
+        spdlog::warn("careful");
+        spdlog::error("broken");
+        scope.rename("vsculpt again");
+        spdlog::info("renamed");
+        EXPECT_EQ(err.str(),
+                  "vsculpt test: hello\nvsculpt test: debug: details 3\n"
+                  "vsculpt test: warning: careful\nvsculpt test: error: broken\n"
+                  "vsculpt again: renamed\n");
+    }
+    EXPECT_EQ(spdlog::default_logger(), before);
+    std::ostringstream quietErr;
+    {
+        vsculpt::app::LogScope scope(quietErr, vsculpt::app::Verbosity::Quiet);
+        spdlog::info("not shown");
+        spdlog::warn("shown");
+    }
+    EXPECT_EQ(quietErr.str(), "vsculpt: warning: shown\n");
+}
+
+TEST(CliOutput, DurationsAreRounded) {
+    using vsculpt::app::formatDuration;
+    EXPECT_EQ(formatDuration(0.0004), "0 ms");
+    EXPECT_EQ(formatDuration(0.8504), "850 ms");
+    EXPECT_EQ(formatDuration(12.44), "12.4 s");
+    EXPECT_EQ(formatDuration(185.2), "3 min 05 s");
+    EXPECT_EQ(formatDuration(7322), "2 h 02 min");
+    EXPECT_EQ(formatDuration(-1), "?");
+}
+
+TEST(CliOutput, ProgressBarDrawsAndErasesItself) {
+    std::ostringstream s;
+    {
+        vsculpt::app::ProgressBar bar(s, true, 200, "line");
+        bar.update(200, 17);  // the last update is always drawn
+        EXPECT_NE(s.str().find("\r[##############################] 100 % line 17"),
+                  std::string::npos)
+            << s.str();
+        bar.clear();
+        const std::string drawn = s.str();
+        EXPECT_EQ(drawn.substr(drawn.size() - 74), "\r" + std::string(72, ' ') + "\r");
+        bar.clear();  // nothing drawn: nothing to erase
+        EXPECT_EQ(s.str(), drawn);
+    }
+    std::ostringstream off;
+    {
+        vsculpt::app::ProgressBar bar(off, false, 10, "row");
+        bar.update(5, 5);
+    }
+    EXPECT_EQ(off.str(), "");
+}
+
+TEST(CliOutput, TurntableFramesAreNumbered) {
+    using vsculpt::app::turntablePath;
+    EXPECT_EQ(turntablePath("turn.png", 0, 36), "turn-000.png");
+    EXPECT_EQ(turntablePath("out/turn.png", 35, 36), "out/turn-035.png");
+    EXPECT_EQ(turntablePath("t.png", 1234, 2000), "t-1234.png");
+    EXPECT_EQ(turntablePath("frame_##.png", 7, 36), "frame_07.png");
+    EXPECT_EQ(turntablePath("f####x.png", 12, 24), "f0012x.png");
+    EXPECT_EQ(turntablePath("a.b/turn", 2, 10), "a.b/turn-002");  // a dot in a folder name
+}
+
+TEST(CliOutput, TurntableTurnsTheSculptureInOneFraming) {
+    const fs::path dir = scratchDir("turntable");
+    const std::string pattern = (dir / "t.png").string();
+    CliRun r = run({"render", kSnowman, "--out", pattern, "--turntable", "4", "--size", "48x40",
+                    "--samples", "1", "--spacing", "2"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("wrote 4 frames"), std::string::npos) << r.err;
+    std::vector<std::string> frames;
+    for (int i = 0; i < 4; ++i) {
+        frames.push_back(slurp(dir / ("t-00" + std::to_string(i) + ".png")));
+        EXPECT_EQ(pngSize(frames.back()), std::make_pair(48, 40)) << i;
+    }
+    EXPECT_FALSE(fs::exists(dir / "t.png"));
+    EXPECT_FALSE(fs::exists(dir / "t-004.png"));
+    EXPECT_NE(frames[0], frames[1]);  // the snowman's face turns away
+    // Frame 1 is the sculpture turned by 90 degrees in the turntable's framing: a turntable
+    // started at 90 degrees begins with the very same image.
+    const std::string shifted = (dir / "s.png").string();
+    r = run({"render", kSnowman, "--out", shifted, "--turntable", "4", "--yaw", "90", "--size",
+             "48x40", "--samples", "1", "--spacing", "2"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(slurp(dir / "s-000.png"), frames[1]);
+    EXPECT_EQ(slurp(dir / "s-003.png"), frames[0]);
+    // Refused before any work: a non-PNG name, a frame count out of range.
+    r = run({"render", kSnowman, "--out", (dir / "t.jpg").string(), "--turntable", "3"});
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("t.jpg: images are written as PNG"), std::string::npos) << r.err;
+    r = run({"render", kSnowman, "--out", pattern, "--turntable", "0"});
+    EXPECT_EQ(r.code, 2);
+    fs::remove_all(dir);
+}
+
+TEST(CliOutput, HugeNumbersGetReadableMessages) {
+    // std::to_string(1.8e308) has 309 digits: no message may contain such a run.
+    const std::regex longRun(R"(\d{16,})");
+    const std::vector<std::vector<std::string>> cases = {
+        {"play", kSnowman, "--export-spacing", "1e-308"},
+        {"play", kSnowman, "--export-spacing", "1e308"},
+        {"play", kSnowman, "--export-spacing", "-5"},
+        {"render", kSnowman, "--out", "x.png", "--spacing", "1e308"},
+        {"render", kSnowman, "--out", "x.png", "--yaw", "1e308"},
+        {"render", kSnowman, "--out", "x.png", "--pitch", "-1e999"},
+        {"render", kSnowman, "--out", "x.png", "--size", "99999999999999999999x3"},
+        {"--frames", "-1"},
+        {"record", "--out", "x.vsrec", "--seconds", "1e308"},
+    };
+    for (const auto& c : cases) {
+        CliRun r = run(c);
+        std::string joined;
+        for (const std::string& a : c) {
+            joined += a + " ";
+            // The user's own text may be echoed; numbers the program prints may not be long.
+            for (size_t at; (at = r.err.find(a)) != std::string::npos;)
+                r.err.erase(at, a.size());
+        }
+        EXPECT_EQ(r.code, 2) << joined << "\n" << r.err;
+        EXPECT_FALSE(std::regex_search(r.err, longRun)) << joined << "\n" << r.err;
+        EXPECT_FALSE(r.err.empty()) << joined;
+    }
+}
+
+}  // namespace

@@ -31,6 +31,11 @@ RayScene::RayScene(const core::Mesh& mesh) : mImpl(std::make_unique<Impl>()) {
     mImpl->device = rtcNewDevice(nullptr);
     if (!mImpl->device) throw RenderError("Embree: cannot create a device");
     mImpl->scene = rtcNewScene(mImpl->device);
+    // Robust traversal and intersection: without it a primary ray slips through the shared
+    // edge of two triangles now and then (Embree's fast path is not watertight), sees the
+    // inside of the far wall or the background, and the still gets isolated dark speckles
+    // along the polygonizer's sliver triangles. Measured: docs/benchmarks.md (render).
+    rtcSetSceneFlags(mImpl->scene, RTC_SCENE_FLAG_ROBUST);
     RTCGeometry geom = rtcNewGeometry(mImpl->device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
                                                           RTC_FORMAT_FLOAT3, 3 * sizeof(float),

@@ -2,6 +2,7 @@
 #include "vsculpt/core/Config.h"
 
 #include "vsculpt/core/NearestName.h"
+#include "vsculpt/core/PrintableText.h"
 
 #include <nlohmann/json.hpp>
 
@@ -63,7 +64,9 @@ class Section {
     }
 
     [[noreturn]] void fail(const std::string& key, const std::string& why) const {
-        throw ConfigError(mSource + ": " + key + ": " + why);
+        // Keys and values are quoted from the file: escape what a terminal would act on.
+        throw ConfigError(mSource + ": " + printableText(key, 160) + ": " +
+                          printableText(why, 240));
     }
     std::string keyPath(const std::string& key) const {
         return mPath.empty() ? key : mPath + "." + key;
@@ -299,7 +302,9 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
         const size_t at = e.byte > 0 ? e.byte - 1 : 0;
         std::string what = e.what();
         if (auto p = what.find("parse error"); p != std::string::npos) what = what.substr(p);
-        throw ConfigError(sourceName + ":" + lineColumn(jsonText, at) + ": invalid JSON: " + what);
+        // nlohmann quotes the bytes it last read: a binary file must not reach the terminal raw.
+        throw ConfigError(sourceName + ":" + lineColumn(jsonText, at) +
+                          ": invalid JSON: " + printableText(what, 240));
     }
 
     SculptConfig cfg;

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/studio/Script.h"
 
+#include "vsculpt/core/PrintableText.h"
+
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -24,7 +27,9 @@ class LineParser {
   public:
     LineParser(const std::string& source, int line) : mSource(source), mLine(line) {}
     [[noreturn]] void fail(const std::string& why) const {
-        throw ScriptError(mSource + ":" + std::to_string(mLine) + ": " + why);
+        // What the line said is quoted in `why`: never raw bytes on the user's terminal.
+        throw ScriptError(mSource + ":" + std::to_string(mLine) + ": " +
+                          core::printableText(why, 240));
     }
     double number(const std::string& w, const char* what) const {
         double v = 0;
@@ -241,6 +246,13 @@ bool parseSketch(const std::vector<std::string>& w, const LineParser& p, ScriptC
 Script parseScript(std::string_view text, const std::string& source) {
     Script script;
     script.source = source;
+    if (const auto at = core::firstBinaryByte(text)) {
+        const size_t line = 1 + size_t(std::count(text.begin(), text.begin() + long(*at), '\n'));
+        throw ScriptError(source + ":" + std::to_string(line) +
+                          ": not a playback script: binary data (byte " + std::to_string(*at) +
+                          " is " + core::printableText(text.substr(*at, 1)) +
+                          "; docs/playback.md)");
+    }
     std::istringstream in{std::string(text)};
     std::string raw;
     int lineNo = 0;

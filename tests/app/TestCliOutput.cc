@@ -241,4 +241,30 @@ TEST(CliOutput, HugeNumbersGetReadableMessages) {
     }
 }
 
+TEST(CliOutput, BinaryInputIsNamedNotEchoed) {
+    const fs::path dir = scratchDir("binary");
+    {
+        std::ofstream f(dir / "elf.vsc", std::ios::binary);
+        f << "tool add\nsize 7\n"
+          << std::string(
+                 "\x7F"
+                 "ELF\x02\x01\x01\0\0\x1b[2J",
+                 13);
+    }
+    for (const char* cmd : {"play", "render"}) {
+        std::vector<std::string> args{cmd, (dir / "elf.vsc").string()};
+        if (std::string(cmd) == "render")
+            args.insert(args.end(), {"--out", (dir / "x.png").string()});
+        const CliRun r = run(args);
+        EXPECT_EQ(r.code, 2) << cmd;
+        EXPECT_NE(r.err.find("elf.vsc:3: not a playback script: binary data (byte 16 is \\x7F"),
+                  std::string::npos)
+            << r.err;
+        for (char c : r.err)
+            EXPECT_TRUE(c == '\n' || (static_cast<unsigned char>(c) >= 0x20 && c != 0x7F))
+                << cmd << ": raw byte " << int(static_cast<unsigned char>(c)) << " in " << r.err;
+    }
+    fs::remove_all(dir);
+}
+
 }  // namespace

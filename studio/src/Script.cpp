@@ -241,6 +241,92 @@ bool parseSketch(const std::vector<std::string>& w, const LineParser& p, ScriptC
     return true;
 }
 
+// import PATH|"PATH" [level K] [units U] [up y|z] [fit MM] [at X Y Z] [repair on|off] [gap MM]
+// (docs/playback.md). The path is taken from the raw text so a quoted one may hold spaces.
+void parseImport(const std::string& full, const LineParser& p, const std::string& source,
+                 ScriptCommand& c) {
+    const char* usage =
+        "'import' takes PATH [level K] [units mm|cm|m|in|MM] [up y|z] [fit MM] [at X Y Z] "
+        "[repair on|off] [gap MM]";
+    std::string rest = full.substr(full.find("import") + 6);
+    const size_t start = rest.find_first_not_of(" \t");
+    if (start == std::string::npos) p.fail(std::string(usage) + " (got no path)");
+    rest = rest.substr(start);
+    std::string path;
+    if (rest[0] == '"') {
+        const size_t close = rest.find('"', 1);
+        if (close == std::string::npos) p.fail("import: the quoted path has no closing '\"'");
+        path = rest.substr(1, close - 1);
+        rest = rest.substr(close + 1);
+        if (!rest.empty() && !std::isspace(static_cast<unsigned char>(rest[0])))
+            p.fail("import: expected a space after the quoted path");
+    } else {
+        const size_t end = rest.find_first_of(" \t");
+        path = rest.substr(0, end);
+        rest = end == std::string::npos ? "" : rest.substr(end);
+    }
+    if (path.empty()) p.fail("import: the path is empty");
+    c.kind = ScriptCommand::Kind::Import;
+    c.file = path;
+    // Relative to the script's folder, so a script and its meshes move together.
+    if (c.file.is_relative()) c.file = std::filesystem::path(source).parent_path() / c.file;
+    const std::vector<std::string> w = words(rest);
+    core::ImportOptions& o = c.importOptions;
+    std::vector<std::string> given;
+    auto once = [&](const std::string& key) {
+        if (std::find(given.begin(), given.end(), key) != given.end())
+            p.fail("import: '" + key + "' given twice");
+        given.push_back(key);
+    };
+    auto value = [&](size_t i, const char* what) -> const std::string& {
+        if (i >= w.size()) p.fail("import: '" + w[i - 1] + "' needs " + what);
+        return w[i];
+    };
+    for (size_t i = 0; i < w.size(); ++i) {
+        const std::string& key = w[i];
+        if (key == "level") {
+            once(key);
+            c.value = p.integer(value(++i, "a level 1..7"), "the import level");
+            if (c.value < 1 || c.value > 7) p.fail("import level " + w[i] + " outside 1..7");
+        } else if (key == "units") {
+            once(key);
+            try {
+                o.mmPerUnit = core::parseImportUnit(value(++i, "mm, cm, m, in or mm per unit"));
+            } catch (const std::invalid_argument& e) {
+                p.fail(std::string("import: ") + e.what());
+            }
+        } else if (key == "up") {
+            once(key);
+            const std::string& v = value(++i, "y or z");
+            if (v != "y" && v != "z") p.fail("import: unknown up axis '" + v + "' (use y or z)");
+            o.up = v == "y" ? core::UpAxis::Y : core::UpAxis::Z;
+        } else if (key == "fit") {
+            once(key);
+            o.fitMm = p.number(value(++i, "a size in mm"), "the fit size");
+            if (!(*o.fitMm > 0) || *o.fitMm > 1e6)
+                p.fail("import: fit " + w[i] + " must be a size in mm above 0 and at most 1e6");
+        } else if (key == "at") {
+            once(key);
+            if (i + 3 >= w.size()) p.fail("import: 'at' needs a point X Y Z");
+            o.centreAt = p.point(w, i + 1, "the import centre");
+            i += 3;
+        } else if (key == "gap") {
+            once(key);
+            o.repairGapMm = p.number(value(++i, "a size in mm"), "the repair gap");
+            if (!(o.repairGapMm > 0) || o.repairGapMm > 1e4)
+                p.fail("import: gap " + w[i] + " must be a size in mm above 0 and at most 1e4");
+        } else if (key == "repair") {
+            once(key);
+            const std::string& v = value(++i, "on or off");
+            if (v != "on" && v != "off") p.fail("import: repair '" + v + "' (use on or off)");
+            o.repair = v == "on";
+        } else {
+            p.fail("import: unknown option '" + key +
+                   "' (use level, units, up, fit, at, repair or gap; quote a path with spaces)");
+        }
+    }
+}
+
 }  // namespace
 
 Script parseScript(std::string_view text, const std::string& source) {
@@ -323,6 +409,8 @@ Script parseScript(std::string_view text, const std::string& source) {
                        std::to_string(w.size() - 1) + " number(s), not a multiple of 3)");
             for (size_t i = 1; i < w.size(); i += 3)
                 c.points.push_back(p.point(w, i, "a stroke point"));
+        } else if (cmd == "import") {
+            parseImport(full, p, source, c);
         } else if (parseSketch(w, p, c)) {
             c.kind = ScriptCommand::Kind::Sketch;
         } else if (cmd == "undo" || cmd == "redo" || cmd == "save") {
@@ -331,10 +419,11 @@ Script parseScript(std::string_view text, const std::string& source) {
                      : cmd == "redo" ? ScriptCommand::Kind::Redo
                                      : ScriptCommand::Kind::Save;
         } else {
-            p.fail("unknown command '" + cmd +
-                   "' (commands: tool, size, zoom, object, space, stroke, undo, redo, save; "
-                   "sketch: page, mode, kind, pen, endgroup, tick, canvas, select, move, scale, "
-                   "delete, role, reuse, solid, model-line)");
+            p.fail(
+                "unknown command '" + cmd +
+                "' (commands: tool, size, zoom, object, space, stroke, import, undo, redo, save; "
+                "sketch: page, mode, kind, pen, endgroup, tick, canvas, select, move, scale, "
+                "delete, role, reuse, solid, model-line)");
         }
         script.commands.push_back(std::move(c));
     };

@@ -149,6 +149,9 @@ bool Session::apply(const ScriptCommand& c) {
             return false;
         case K::Sketch:
             break;
+        case K::Import:
+            // Its notes (a repair) go to the studio's notice sink: Studio::apply runs it.
+            throw SessionError("import runs through the studio (Studio::apply)");
     }
     // Sketch commands need the sketch document: Studio::apply runs them.
     throw SessionError(

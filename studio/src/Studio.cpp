@@ -17,6 +17,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <spdlog/spdlog.h>
+
 namespace vsculpt::studio {
 
 namespace {
@@ -256,6 +258,23 @@ int Studio::addSolid(const core::Mesh& solid, int level) {
     return sculpt([&](Session& s) { return s.addSolid(solid, level); });
 }
 
+int Studio::importMesh(const std::filesystem::path& file, const core::ImportOptions& options,
+                       int level, core::ImportReport* report) {
+    endStroke();
+    core::ImportReport local;
+    core::ImportReport& r = report ? *report : local;
+    const core::Mesh solid = core::importMesh(file, options, &r);
+    if (level == 0) level = core::importLevelFor(mSession->sculpture().levels(), solid);
+    const int used = addSolid(solid, level);
+    for (const std::string& note : r.notes) {
+        if (mNotice)
+            mNotice(note);
+        else
+            spdlog::warn("{}", note);  // the program's logger (app/Log.h)
+    }
+    return used;
+}
+
 void Studio::save() {
     endStroke();
     mSession->save();
@@ -399,6 +418,12 @@ bool Studio::apply(const ScriptCommand& c) {
         case K::Save:
             save();
             return false;
+        case K::Import: {
+            // Clay where there already is clay adds nothing, and no step.
+            const size_t before = mDone.size();
+            importMesh(c.file, c.importOptions, c.value);
+            return mDone.size() > before;
+        }
         default:
             return sculpt([&](Session& s) { return s.apply(c); });
     }

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "vsculpt/core/Geometry.h"
+#include "vsculpt/core/ImportMesh.h"
 
 #include <filesystem>
 #include <optional>
@@ -67,17 +68,21 @@ struct SketchCommand {
 };
 
 struct ScriptCommand {
-    enum class Kind { Tool, Size, Zoom, Object, Space, Stroke, Undo, Redo, Save, Sketch };
+    enum class Kind { Tool, Size, Zoom, Object, Space, Stroke, Undo, Redo, Save, Sketch, Import };
     Kind kind = Kind::Undo;
     int line = 0;  ///< where the command starts
     ToolKind tool = ToolKind::Add;
-    int value = 0;          ///< size K / zoom Z
+    int value = 0;          ///< size K / zoom Z / import level K (0: from the mesh's size)
     bool hasPoint = false;  ///< zoom with a centre
     core::Vec3 point{0.0};
     core::RigidTransform pose;       ///< object
     bool world = false;              ///< space
     std::vector<core::Vec3> points;  ///< stroke
     SketchCommand sketch;            ///< sketch commands
+    /// import: the mesh file, resolved against the script's folder when relative (the
+    /// script's source name is taken as its path), and the frame/size options.
+    std::filesystem::path file;
+    core::ImportOptions importOptions;
 };
 
 struct Script {
@@ -85,6 +90,8 @@ struct Script {
     std::vector<ScriptCommand> commands;
 };
 
+/// @param sourceName the script's path (or a name): error messages start with it, and
+/// relative `import` paths are resolved against its folder.
 Script parseScript(std::string_view text, const std::string& sourceName);
 Script loadScript(const std::filesystem::path& path);
 

@@ -76,6 +76,17 @@ class Studio {
     void stroke(const std::vector<core::Vec3>& points, bool world);
     /// Session::addSolid as one step.
     int addSolid(const core::Mesh& solid, int level = 0);
+    /// Imports a mesh file (core::importMesh: OBJ, STL, PLY, glTF; object mm, Z up after
+    /// `options`) and adds it as clay: one step, journaled as the clay it made, so a project
+    /// reopens without the file (docs/import.md). @param level 0: core::importLevelFor.
+    /// Returns the level used. Notes (a repaired mesh, rewound triangles) go to the notice
+    /// sink. Throws core::ImportError naming the file, std::invalid_argument for a solid
+    /// placeSolid refuses (too fine a level); the sculpture is unchanged then.
+    int importMesh(const std::filesystem::path& file, const core::ImportOptions& options = {},
+                   int level = 0, core::ImportReport* report = nullptr);
+    /// Where notes for the user go (one line each, no newline); by default spdlog warnings
+    /// (stderr in the program, app/Log.h). Playback and the windows may route them elsewhere.
+    void setNoticeSink(std::function<void(const std::string&)> sink) { mNotice = std::move(sink); }
 
     /// Runs one playback-script command: sketch commands here, the rest through the session
     /// (undo/redo through the shared timeline). Returns true when the sculpture changed.
@@ -184,6 +195,7 @@ class Studio {
     std::vector<std::vector<core::Vec3>> mSurfaceLines, mUndoneSurfaceLines;
     std::optional<std::filesystem::path> mFile;
     SurfaceProjector mProjector;
+    std::function<void(const std::string&)> mNotice;
 };
 
 }  // namespace vsculpt::studio

@@ -50,14 +50,50 @@ std::optional<std::filesystem::path> lastProject() {
     return dir;
 }
 
+namespace {
+
+/// The recent-projects file as written, existing or not.
+std::vector<std::filesystem::path> readRecent() {
+    std::vector<std::filesystem::path> list;
+    std::ifstream in(dataDir() / "recent-projects");
+    for (std::string line; std::getline(in, line);)
+        if (!line.empty()) list.emplace_back(line);
+    return list;
+}
+
+}  // namespace
+
 void rememberLastProject(const std::filesystem::path& dir, std::ostream& err) {
     try {
         std::filesystem::create_directories(dataDir());
-        core::writeFileAtomically(dataDir() / "last-project",
-                                  std::filesystem::absolute(dir).string() + "\n", false);
+        const std::filesystem::path absolute = std::filesystem::absolute(dir);
+        core::writeFileAtomically(dataDir() / "last-project", absolute.string() + "\n", false);
+        std::string text;
+        for (const auto& p : withRecentProject(readRecent(), absolute))
+            text += p.string() + "\n";
+        core::writeFileAtomically(dataDir() / "recent-projects", text, false);
     } catch (const std::exception& e) {
         err << "vsculpt: warning: cannot remember the last project: " << e.what() << "\n";
     }
+}
+
+std::vector<std::filesystem::path> withRecentProject(std::vector<std::filesystem::path> list,
+                                                     const std::filesystem::path& dir, size_t max) {
+    std::erase(list, dir);
+    list.insert(list.begin(), dir);
+    if (list.size() > max) list.resize(max);
+    return list;
+}
+
+std::vector<std::filesystem::path> recentProjects() {
+    std::vector<std::filesystem::path> list;
+    for (const auto& p : readRecent()) {
+        std::error_code ec;
+        // A folder deleted since is not offered; the file keeps it (a disk unplugged for now
+        // may come back) until ten newer projects push it out.
+        if (std::filesystem::exists(core::snapshotPath(p), ec)) list.push_back(p);
+    }
+    return list;
 }
 
 std::filesystem::path newProjectDir(const std::string& kind) {
@@ -250,23 +286,45 @@ bool Rig::handles(const std::string& action) {
     return action == "save" || action == "save_as" || action == "export" || action == "new_project";
 }
 
+std::string Rig::openProject(const std::filesystem::path& dir) {
+    const auto& current = mStudio->session().projectDir();
+    std::error_code ec;
+    if (current && std::filesystem::equivalent(*current, dir, ec))
+        return "already open: " + dir.string();
+    if (!std::filesystem::exists(core::snapshotPath(dir), ec))
+        throw core::ProjectError(dir.string() + ": no project there (no snapshot)");
+    // Opened (and locked) before anything changes here: a refusal leaves this session as it is.
+    std::unique_ptr<Studio> next = Studio::openProject(dir, mConfig, mOptions.mode);
+    std::string saved;
+    if (current && !mStudio->session().readOnly()) saved = save() + "; ";
+    mDevices.reset();
+    mInteraction.reset();
+    mStudio = std::move(next);
+    installProjector(*mStudio);
+    rebuildInput();
+    rememberLastProject(dir, std::cerr);
+    return saved + "opened " + dir.string();
+}
+
+std::filesystem::path Rig::defaultExportPath() const {
+    const auto& dir = mStudio->session().projectDir();
+    const std::filesystem::path folder = dir ? *dir / "exports" : dataDir() / "exports";
+    return folder / (newProjectDir("x").filename().string() + ".glb");
+}
+
 std::string Rig::projectAction(const std::string& action) {
     if (action == "save") return save();
     if (action == "save_as") return saveAs(newProjectDir("projects"));
     if (action == "new_project") return newProject();
-    if (action == "export") {
-        const auto& dir = mStudio->session().projectDir();
-        const std::filesystem::path folder = dir ? *dir / "exports" : dataDir() / "exports";
-        return exportTo(folder / (newProjectDir("x").filename().string() + ".glb"));
-    }
+    if (action == "export") return exportTo(defaultExportPath());
     throw std::logic_error("not a project action: " + action);
 }
 
-std::string Rig::exportTo(const std::filesystem::path& path) {
+std::string Rig::exportTo(const std::filesystem::path& path, const core::ExportOptions& options) {
     const Session& s = mStudio->session();
     const double spacing = core::zoomSpacing(mConfig, s.sculpture().levels(), 1);
     const core::Mesh mesh = s.wholeMesh(spacing);
-    core::ExportOptions eo;
+    core::ExportOptions eo = options;
     eo.voxelSizeMm = spacing;
     if (!path.parent_path().empty()) std::filesystem::create_directories(path.parent_path());
     core::exportMesh(mesh, path, eo);

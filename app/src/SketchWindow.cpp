@@ -8,6 +8,7 @@
 #include "vsculpt/core/WriteFileAtomically.h"
 #include "vsculpt/render/ProjectStroke.h"
 #include "vsculpt/render/SketchCanvas.h"
+#include "vsculpt/render/UiLayer.h"
 #include "vsculpt/render/Viewer.h"
 #include "vsculpt/studio/SketchSolids.h"
 #include "vsculpt/studio/Studio.h"
@@ -76,8 +77,10 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
     if (!bindingsByKey(cfg, cfg.interaction.sketchBindings, "sketch_bindings", actionOfKey, err))
         return 2;
     std::unique_ptr<render::Viewer> viewer;
+    std::unique_ptr<render::UiLayer> uiLayer;
     try {
         viewer = std::make_unique<render::Viewer>(o.width, o.height, "vsculpt sketch", !o.hidden);
+        if (o.ui) uiLayer = std::make_unique<render::UiLayer>(*viewer);
     } catch (const render::RenderError& e) {
         err << "vsculpt sketch: no sketch window: " << e.what() << "\n"
             << "vsculpt sketch: for a headless sketch session run `vsculpt play SCRIPT` with "
@@ -129,8 +132,18 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
     size_t commandIndex = 0, frame = 0;
     bool running = true;
     core::Aabb frameBox = core::meshBounds(rig->session().view().mesh());
+    // The panel spans the whole window (canvas and 3D view), drawn over both.
+    if (uiLayer) uiLayer->setScale(float(cfg.render.uiScale));
+    UiState uiState;
+    glm::dvec2 uiPointer(-1.0);
+    bool uiOwnsButton[3] = {};
+    double frameMs = 0;
+    auto overUi = [&] {
+        return uiLayer && (uiLayer->wantsMouse() || uiState.covers(uiPointer.x, uiPointer.y));
+    };
 
     while (running) {
+        const auto t0 = std::chrono::steady_clock::now();
         // Save as and new project replace the studio: fetched anew every frame.
         Studio& studio = rig->studio();
         const Session* session = &rig->session();
@@ -208,108 +221,125 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
         }
         for (const auto& [at, ev] : o.injectedEvents)
             if (at == frame) viewer->injectEvent(ev);
+        // One action, from a key binding or the panel (the same names): applied the same way.
+        auto applyAction = [&](const std::string& action) {
+            using V = SketchCommand::Verb;
+            if (action == "help") {
+                uiState.help = !uiState.help;
+            } else if (action == "quit") {
+                running = false;
+            } else if (Rig::handles(action)) {
+                act([&] {
+                    message = rig->projectAction(action);
+                    out << "vsculpt sketch: " << message << "\n";
+                    switched = action == "save_as" || action == "new_project";
+                });
+                if (switched) {
+                    drawing = modelDrawing = tabletTouching = false;
+                    lasso.clear();
+                }
+            } else if (action == "undo") {
+                act([&] { studio.undo(); });
+            } else if (action == "redo") {
+                act([&] { studio.redo(); });
+            } else if (action == "mode") {
+                page().setMode(page().mode() == studio::SketchMode::Draft
+                                   ? studio::SketchMode::Cleanup
+                                   : studio::SketchMode::Draft);
+            } else if (action == "kind_line" || action == "kind_curve") {
+                page().setKind(action == "kind_line" ? sketch::StrokeKind::Line
+                                                     : sketch::StrokeKind::Curve);
+            } else if (action == "end_group") {
+                act([&] { studio.sketchStep([](auto& p) { p.endGroup(); }); });
+            } else if (action.rfind("role_", 0) == 0) {
+                // role_surface_x -> "surface-x", the script's role names.
+                std::string role = action.substr(5);
+                std::replace(role.begin(), role.end(), '_', '-');
+                ScriptCommand c;
+                c.kind = ScriptCommand::Kind::Sketch;
+                c.sketch.verb = V::Role;
+                c.sketch.name = role;
+                c.sketch.target = SketchCommand::Target::Last;
+                act([&] {
+                    studio.apply(c);
+                    message = "role " + role;
+                });
+            } else if (action.rfind("solid_", 0) == 0) {
+                std::string construction = action.substr(6);
+                std::replace(construction.begin(), construction.end(), '_', '-');
+                sketchCommand(V::Solid, construction);
+            } else if (action == "lasso") {
+                lassoMode = !lassoMode;
+                message = lassoMode ? "lasso select" : "draw";
+            } else if (action == "delete") {
+                act([&] { studio.sketchStep([](auto& p) { p.deleteSelection(); }); });
+            } else if (action.rfind("move_", 0) == 0) {
+                // One view millimetre per press, whatever the zoom.
+                const double step = page().view().scale;
+                const glm::dvec2 d = action == "move_left"    ? glm::dvec2(-step, 0)
+                                     : action == "move_right" ? glm::dvec2(step, 0)
+                                     : action == "move_up"    ? glm::dvec2(0, step)
+                                                              : glm::dvec2(0, -step);
+                act([&] { studio.sketchStep([&](auto& p) { p.moveSelection(d); }); });
+            } else if (action == "scale_down" || action == "scale_up") {
+                const double f = action == "scale_down" ? 1 / 1.1 : 1.1;
+                act([&] { studio.sketchStep([&](auto& p) { p.scaleSelection(f); }); });
+            } else if (action == "page_previous" || action == "page_next") {
+                const size_t n = studio.document().pageCount();
+                const size_t i = studio.document().currentIndex();
+                studio.document().selectPage(action == "page_next" ? (i + 1) % n : (i + n - 1) % n);
+            } else if (action == "page_new") {
+                ScriptCommand c;
+                c.kind = ScriptCommand::Kind::Sketch;
+                c.sketch.verb = V::Page;
+                c.sketch.name = "Sketch " + std::to_string(studio.document().pageCount() + 1);
+                act([&] { studio.apply(c); });
+            } else if (action.rfind("view_", 0) == 0) {
+                act([&] {
+                    studio.setPlane(studio.document().currentIndex(),
+                                    action == "view_front"  ? SketchPlane::Front
+                                    : action == "view_side" ? SketchPlane::Side
+                                                            : SketchPlane::Top);
+                });
+            } else if (action == "frame") {
+                centre(page());
+            } else if (action == "history") {
+                showHistory = !showHistory;
+                message =
+                    showHistory ? "history shown (reuse with the reuse key)" : "history hidden";
+            } else if (action == "reuse") {
+                act([&] {
+                    const auto id = nearestHistoryStroke(
+                        page(), page().view().canvasFromView(viewMm(cursorX, cursorY)),
+                        5 * page().view().scale);
+                    if (!id)
+                        throw std::invalid_argument(
+                            "no undone or deleted stroke under the pointer");
+                    studio.sketchStep([&](auto& p) { p.reuse(*id); });
+                    message = "stroke " + std::to_string(*id) + " reused";
+                });
+            }
+        };
         for (const render::InputEvent& ev : viewer->pollEvents()) {
             using K = render::InputEvent::Kind;
             const bool overCanvas = cursorX < canvasW;
+            if (uiLayer) uiLayer->feed(ev);
             if (ev.kind == K::Close) running = false;
-            if (ev.kind == K::Key && ev.pressed) {
+            if (switched) break;
+            // Keys typed into a text field (or with a dialog open) are the UI's only.
+            if (ev.kind == K::Key && ev.pressed && !(uiLayer && uiLayer->wantsKeyboard())) {
                 auto bound = actionOfKey.find(ev.code);
-                const std::string action = bound == actionOfKey.end() ? "" : bound->second;
-                using V = SketchCommand::Verb;
-                if (switched) break;
-                if (action == "quit") {
-                    running = false;
-                } else if (Rig::handles(action)) {
-                    act([&] {
-                        message = rig->projectAction(action);
-                        out << "vsculpt sketch: " << message << "\n";
-                        switched = action == "save_as" || action == "new_project";
-                    });
-                    if (switched) {
-                        drawing = modelDrawing = tabletTouching = false;
-                        lasso.clear();
-                    }
-                } else if (action == "undo") {
-                    act([&] { studio.undo(); });
-                } else if (action == "redo") {
-                    act([&] { studio.redo(); });
-                } else if (action == "mode") {
-                    page().setMode(page().mode() == studio::SketchMode::Draft
-                                       ? studio::SketchMode::Cleanup
-                                       : studio::SketchMode::Draft);
-                } else if (action == "kind_line" || action == "kind_curve") {
-                    page().setKind(action == "kind_line" ? sketch::StrokeKind::Line
-                                                         : sketch::StrokeKind::Curve);
-                } else if (action == "end_group") {
-                    act([&] { studio.sketchStep([](auto& p) { p.endGroup(); }); });
-                } else if (action.rfind("role_", 0) == 0) {
-                    // role_surface_x -> "surface-x", the script's role names.
-                    std::string role = action.substr(5);
-                    std::replace(role.begin(), role.end(), '_', '-');
-                    ScriptCommand c;
-                    c.kind = ScriptCommand::Kind::Sketch;
-                    c.sketch.verb = V::Role;
-                    c.sketch.name = role;
-                    c.sketch.target = SketchCommand::Target::Last;
-                    act([&] {
-                        studio.apply(c);
-                        message = "role " + role;
-                    });
-                } else if (action.rfind("solid_", 0) == 0) {
-                    std::string construction = action.substr(6);
-                    std::replace(construction.begin(), construction.end(), '_', '-');
-                    sketchCommand(V::Solid, construction);
-                } else if (action == "lasso") {
-                    lassoMode = !lassoMode;
-                    message = lassoMode ? "lasso select" : "draw";
-                } else if (action == "delete") {
-                    act([&] { studio.sketchStep([](auto& p) { p.deleteSelection(); }); });
-                } else if (action.rfind("move_", 0) == 0) {
-                    // One view millimetre per press, whatever the zoom.
-                    const double step = page().view().scale;
-                    const glm::dvec2 d = action == "move_left"    ? glm::dvec2(-step, 0)
-                                         : action == "move_right" ? glm::dvec2(step, 0)
-                                         : action == "move_up"    ? glm::dvec2(0, step)
-                                                                  : glm::dvec2(0, -step);
-                    act([&] { studio.sketchStep([&](auto& p) { p.moveSelection(d); }); });
-                } else if (action == "scale_down" || action == "scale_up") {
-                    const double f = action == "scale_down" ? 1 / 1.1 : 1.1;
-                    act([&] { studio.sketchStep([&](auto& p) { p.scaleSelection(f); }); });
-                } else if (action == "page_previous" || action == "page_next") {
-                    const size_t n = studio.document().pageCount();
-                    const size_t i = studio.document().currentIndex();
-                    studio.document().selectPage(action == "page_next" ? (i + 1) % n
-                                                                       : (i + n - 1) % n);
-                } else if (action == "page_new") {
-                    ScriptCommand c;
-                    c.kind = ScriptCommand::Kind::Sketch;
-                    c.sketch.verb = V::Page;
-                    c.sketch.name = "Sketch " + std::to_string(studio.document().pageCount() + 1);
-                    act([&] { studio.apply(c); });
-                } else if (action.rfind("view_", 0) == 0) {
-                    act([&] {
-                        studio.setPlane(studio.document().currentIndex(),
-                                        action == "view_front"  ? SketchPlane::Front
-                                        : action == "view_side" ? SketchPlane::Side
-                                                                : SketchPlane::Top);
-                    });
-                } else if (action == "frame") {
-                    centre(page());
-                } else if (action == "history") {
-                    showHistory = !showHistory;
-                    message =
-                        showHistory ? "history shown (reuse with the reuse key)" : "history hidden";
-                } else if (action == "reuse") {
-                    act([&] {
-                        const auto id = nearestHistoryStroke(
-                            page(), page().view().canvasFromView(viewMm(cursorX, cursorY)),
-                            5 * page().view().scale);
-                        if (!id)
-                            throw std::invalid_argument(
-                                "no undone or deleted stroke under the pointer");
-                        studio.sketchStep([&](auto& p) { p.reuse(*id); });
-                        message = "stroke " + std::to_string(*id) + " reused";
-                    });
+                if (bound != actionOfKey.end()) applyAction(bound->second);
+            }
+            if (ev.kind == K::MouseButton && ev.code >= 0 && ev.code < 3) {
+                // A press on the panel is the panel's (and so is its release): it never draws.
+                if (ev.pressed && overUi()) {
+                    uiOwnsButton[ev.code] = true;
+                    continue;
+                }
+                if (!ev.pressed && uiOwnsButton[ev.code]) {
+                    uiOwnsButton[ev.code] = false;
+                    continue;
                 }
             }
             if (ev.kind == K::MouseButton) {
@@ -360,6 +390,10 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
                 lastY = cursorY;
                 cursorX = ev.x;
                 cursorY = ev.y;
+                if (uiLayer) {
+                    uiPointer = viewer->windowToFramebuffer(cursorX, cursorY);
+                    uiLayer->setPointer(uiPointer.x, uiPointer.y);
+                }
                 if (drawing)
                     act([&] { page().penMove(penSample(cursorX, cursorY, std::nullopt)); });
                 if (!lasso.empty())
@@ -379,10 +413,49 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
                 }
                 if (overCanvas && !drawing) page().hover(viewMm(cursorX, cursorY));
             }
-            if (ev.kind == K::Scroll && overCanvas)
+            if (ev.kind == K::Scroll && overCanvas && !overUi())
                 act([&] { page().zoomAbout(viewMm(cursorX, cursorY), std::pow(1.1, ev.y)); });
         }
         if (switched) continue;
+        // The panel: built and drawn into its texture now, composited over the window after
+        // the canvas; what it asks for is applied like keys.
+        render::UiImage uiImage;
+        if (uiLayer) {
+            uiLayer->beginFrame(W, H, std::max(1e-3, frameMs / 1000));
+            SketchUiView view;
+            view.page = page().name();
+            view.plane = planeName(studio.plane(studio.document().currentIndex()));
+            view.pageIndex = studio.document().currentIndex();
+            view.pageCount = studio.document().pageCount();
+            view.cleanup = page().mode() == studio::SketchMode::Cleanup;
+            view.curves = page().kind() == sketch::StrokeKind::Curve;
+            view.lasso = lassoMode;
+            view.strokes = page().liveStrokeIds().size();
+            view.curvesDone = page().cleanCurves().size();
+            view.steps = studio.stepCount();
+            view.frameMs = frameMs;
+            view.project = session->projectDir() ? session->projectDir()->filename().string()
+                                                 : "no project (scratch)";
+            view.message = message;
+            view.bindings = &cfg.interaction.sketchBindings;
+            const std::vector<UiAction> actions = sketchUi(uiState, view, cfg, W, H);
+            uiImage = uiLayer->endFrame();
+            for (const UiAction& a : actions) {
+                if (switched) break;
+                if (a.name == "preferences_changed") {
+                    uiLayer->setScale(float(cfg.render.uiScale));
+                } else if (applySharedUiAction(a, *rig, uiState, cfg, message, switched)) {
+                    if (!message.empty()) out << "vsculpt sketch: " << message << "\n";
+                } else {
+                    applyAction(a.name);
+                }
+            }
+            if (switched) {
+                drawing = modelDrawing = tabletTouching = false;
+                lasso.clear();
+                continue;
+            }
+        }
         if (devices) {
             rig->pumpDevices(err);
             // The whole tablet maps onto the canvas; its pen draws with pressure.
@@ -439,6 +512,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
             err << "vsculpt sketch: error: " << e.what() << "\n";
             return 1;
         }
+        if (uiLayer) viewer->overlayUi(uiImage);
         ++frame;
         const bool last = o.frames > 0 && frame >= size_t(o.frames);
         if (last && (!o.shotPath.empty() || o.lastFrame)) {
@@ -485,8 +559,11 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
                           : (page().kind() == sketch::StrokeKind::Line ? " lines" : " curves"),
                       strokes, page().cleanCurves().size(), studio.stepCount(), message.c_str());
         viewer->setTitle(title);
+        frameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                      .count();
         if (last) running = false;
     }
+    if (o.uiReport) *o.uiReport = uiState;
     rig->studio().endStroke();
     out << "vsculpt sketch: " << frame << " frame(s), " << rig->studio().document().pageCount()
         << " page(s), " << rig->studio().stepCount() << " step(s), "

@@ -6,6 +6,7 @@
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/core/Project.h"
 #include "vsculpt/core/WriteFileAtomically.h"
+#include "vsculpt/render/UiLayer.h"
 #include "vsculpt/render/Viewer.h"
 #include "vsculpt/studio/PickTool.h"
 
@@ -14,6 +15,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -63,8 +65,10 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
     std::map<int, std::string> actionOfKey;
     if (!bindingsByKey(cfg, cfg.interaction.bindings, "bindings", actionOfKey, err)) return 2;
     std::unique_ptr<render::Viewer> viewer;
+    std::unique_ptr<render::UiLayer> uiLayer;
     try {
         viewer = std::make_unique<render::Viewer>(o.width, o.height, "vsculpt", !o.hidden);
+        if (o.ui) uiLayer = std::make_unique<render::UiLayer>(*viewer);
     } catch (const render::RenderError& e) {
         err << "vsculpt: no sculpting window: " << e.what() << "\n"
             << "vsculpt: for a headless session run `vsculpt play SCRIPT` (docs/playback.md)\n";
@@ -100,9 +104,18 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
     double frameMs = 0;
     bool running = true;
     Vec3 toolWorld(0.0);
+    // The preferences panel shows and edits the mode in use (--stereo included).
+    cfg.render.stereo = mode == render::StereoMode::SideBySide ? "sbs"
+                        : mode == render::StereoMode::Anaglyph ? "anaglyph"
+                                                               : "mono";
     render::StereoDisplay display;
     display.ipdMm = cfg.render.ipdMm;
     display.verticalFovDeg = cfg.render.verticalFovDeg;
+    if (uiLayer) uiLayer->setScale(float(cfg.render.uiScale));
+    UiState uiState;
+    glm::dvec2 uiPointer(-1.0);  // the pointer on the UI texture
+    bool uiOwnsButton[3] = {};   // a press the UI took: its release is the UI's too
+    double uiMsTotal = 0;
     const render::LensCorrection lens{cfg.render.lensK1, cfg.render.lensK2, cfg.render.lensRedScale,
                                       cfg.render.lensBlueScale};
     if (cfg.render.fullscreenMonitor >= 0 && !viewer->goFullscreen(cfg.render.fullscreenMonitor))
@@ -123,14 +136,15 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
                                        0, 0, Vec3(0, 0, -1));
         return pick.surfaceHit ? *pick.surfaceHit : fallback;
     };
-    std::vector<render::PaletteItem> palette;
-    // Where the tool last was over the sculpture (not over the palette): palette zoom centre.
+    // Where the tool last was over the sculpture (not over the UI): the UI's zoom centre.
     Vec3 lastSculptPoint(0.0);
+    auto overUi = [&] {
+        return uiLayer && (uiLayer->wantsMouse() || uiState.covers(uiPointer.x, uiPointer.y));
+    };
     while (running) {
         Studio& studio = studioNow();
         const Session& session = sessionNow();
         Interaction& ui = rig->interaction();
-        palette = render::layoutPalette(ui.offeredSizes(), session.size(), session.zoom());
         const auto t0 = std::chrono::steady_clock::now();
         // Scripted commands first (one per frame), then live input.
         if (commandIndex < script.commands.size()) {
@@ -144,62 +158,76 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         }
         const ToolLevel& level = session.sculpture().levels().level(session.size());
         bool switched = false;
+        // One action, from a key binding or the UI (the same names): applied the same way.
+        auto doAction = [&](const std::string& a) {
+            const Vec3 toolObject = glm::inverse(worldFromObject) * glm::dvec4(toolWorld, 1);
+            try {
+                if (a == "quit")
+                    running = false;
+                else if (a == "help")
+                    uiState.help = !uiState.help;
+                else if (a == "tool_add" || a == "tool_carve" || a == "tool_select")
+                    studio.setTool(a == "tool_add"     ? ToolKind::Add
+                                   : a == "tool_carve" ? ToolKind::Carve
+                                                       : ToolKind::Select);
+                else if (a.rfind("zoom_", 0) == 0 && a.size() == 6)
+                    ui.jumpToZoom(a.back() - '0', lastSculptPoint);
+                else if (a == "cycle_tool")
+                    ui.cycleTool();
+                else if (a == "step")
+                    ui.step(session.tool() == ToolKind::Select ? zoomTarget(toolObject)
+                                                               : toolObject);
+                else if (a.rfind("size_", 0) == 0)
+                    ui.jumpToSize(a.back() - '0');
+                else if (a == "zoom_in")
+                    ui.jumpToZoom(std::min(5, session.zoom() + 1), zoomTarget(toolObject));
+                else if (a == "zoom_out")
+                    ui.jumpToZoom(std::max(1, session.zoom() - 1), toolObject);
+                else if (a == "overview")
+                    ui.overview();
+                else if (a == "undo")
+                    studio.undo();
+                else if (a == "redo")
+                    studio.redo();
+                else if (Rig::handles(a)) {
+                    message = rig->projectAction(a);
+                    out << "vsculpt: " << message << "\n";
+                    // Save as and new project replace the studio: this frame's
+                    // references are gone, start the next frame with the new one.
+                    switched = a == "save_as" || a == "new_project";
+                }
+            } catch (const std::logic_error&) {
+                throw;  // a broken invariant: not a refused command
+            } catch (const std::exception& e) {
+                message = e.what();
+                err << "vsculpt: " << e.what() << "\n";
+            }
+        };
+        std::vector<render::InputEvent> injected;
+        if (o.onFrame) o.onFrame(frame, uiState, injected);
+        for (const render::InputEvent& ev : injected)
+            viewer->injectEvent(ev);
         for (const render::InputEvent& ev : viewer->pollEvents()) {
             if (switched) break;
             using K = render::InputEvent::Kind;
-            const Vec3 toolObject = glm::inverse(worldFromObject) * glm::dvec4(toolWorld, 1);
+            if (uiLayer) uiLayer->feed(ev);
             if (ev.kind == K::Close) running = false;
-            if (ev.kind == K::Key && ev.pressed && actionOfKey.count(ev.code)) {
-                const std::string& a = actionOfKey[ev.code];
-                try {
-                    if (a == "quit")
-                        running = false;
-                    else if (a == "cycle_tool")
-                        ui.cycleTool();
-                    else if (a == "step")
-                        ui.step(session.tool() == ToolKind::Select ? zoomTarget(toolObject)
-                                                                   : toolObject);
-                    else if (a.rfind("size_", 0) == 0)
-                        ui.jumpToSize(a.back() - '0');
-                    else if (a == "zoom_in")
-                        ui.jumpToZoom(std::min(5, session.zoom() + 1), zoomTarget(toolObject));
-                    else if (a == "zoom_out")
-                        ui.jumpToZoom(std::max(1, session.zoom() - 1), toolObject);
-                    else if (a == "overview")
-                        ui.overview();
-                    else if (a == "undo")
-                        studio.undo();
-                    else if (a == "redo")
-                        studio.redo();
-                    else if (Rig::handles(a)) {
-                        message = rig->projectAction(a);
-                        out << "vsculpt: " << message << "\n";
-                        // Save as and new project replace the studio: this frame's
-                        // references are gone, start the next frame with the new one.
-                        switched = a == "save_as" || a == "new_project";
-                    }
-                } catch (const std::logic_error&) {
-                    throw;  // a broken invariant: not a refused command
-                } catch (const std::exception& e) {
-                    message = e.what();
-                    err << "vsculpt: " << e.what() << "\n";
-                }
-            }
+            // Keys typed into a text field (or with a dialog open) are the UI's only.
+            if (ev.kind == K::Key && ev.pressed && actionOfKey.count(ev.code) &&
+                !(uiLayer && uiLayer->wantsKeyboard()))
+                doAction(actionOfKey[ev.code]);
             if (ev.kind == K::MouseButton) {
-                // A click on the palette jumps instead of sculpting.
-                double nx = 0, ny = 0;
-                viewer->pixelToEyeNdc(cursorX, cursorY, mode, nx, ny);
-                const render::PaletteItem* hit = render::pickPalette(palette, nx, ny);
-                if (ev.code == GLFW_MOUSE_BUTTON_LEFT && ev.pressed && hit) {
-                    try {
-                        if (hit->kind == render::PaletteItem::Kind::Size)
-                            ui.jumpToSize(hit->value);
-                        else
-                            ui.jumpToZoom(hit->value, lastSculptPoint);
-                    } catch (const std::exception& e) {
-                        err << "vsculpt: " << e.what() << "\n";
+                // A press on the UI is the UI's (and so is its release): it never sculpts.
+                const int b = ev.code;
+                if (b >= 0 && b < 3) {
+                    if (ev.pressed && overUi()) {
+                        uiOwnsButton[b] = true;
+                        continue;
                     }
-                    continue;
+                    if (!ev.pressed && uiOwnsButton[b]) {
+                        uiOwnsButton[b] = false;
+                        continue;
+                    }
                 }
                 if (ev.code == GLFW_MOUSE_BUTTON_LEFT) ui.setEngaged(ev.pressed);
                 if (ev.code == GLFW_MOUSE_BUTTON_RIGHT) rotating = ev.pressed;
@@ -210,6 +238,11 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
                 lastY = cursorY;
                 cursorX = ev.x;
                 cursorY = ev.y;
+                if (uiLayer) {
+                    uiPointer =
+                        viewer->pointerOnUi(cursorX, cursorY, mode, viewer->eyeImageSize(mode));
+                    uiLayer->setPointer(uiPointer.x, uiPointer.y);
+                }
                 if (rotating || moving) {
                     RigidTransform pose = session.objectPose();
                     if (rotating) {
@@ -231,10 +264,52 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
                     studio.setObjectPose(pose);
                 }
             }
-            if (ev.kind == K::Scroll)
+            if (ev.kind == K::Scroll && !overUi())
                 depthOffset += ev.y * cfg.interaction.depthStepOverDiameter * level.diameterMm;
         }
         if (switched) continue;
+        // The UI: drawn into its texture now, composited into each eye by the draw below;
+        // what it asks for is applied like keys.
+        render::UiImage uiImage;
+        if (uiLayer) {
+            const auto u0 = std::chrono::steady_clock::now();
+            const glm::ivec2 uiSize = viewer->eyeImageSize(mode);
+            uiLayer->beginFrame(uiSize.x, uiSize.y, std::max(1e-3, frameMs / 1000));
+            SculptUiView view;
+            view.tool = session.tool();
+            view.size = session.size();
+            view.sizeMm = level.diameterMm;
+            for (int s : ui.offeredSizes())
+                view.offeredSizes.emplace_back(s, session.sculpture().levels().level(s).diameterMm);
+            view.zoom = session.zoom();
+            view.skeletons = session.sculpture().counts().total();
+            view.frameMs = frameMs;
+            view.project = session.projectDir() ? session.projectDir()->filename().string()
+                                                : "no project (scratch)";
+            view.message = message;
+            view.bindings = &cfg.interaction.bindings;
+            view.marginPx = float(
+                std::ceil(std::abs(viewer->lastUiShiftNdc(render::Eye::Left)) * uiSize.x / 2));
+            const std::vector<UiAction> actions = sculptUi(uiState, view, cfg, uiSize.x, uiSize.y);
+            uiImage = uiLayer->endFrame();
+            uiImage.depthMm = cfg.render.uiDepthMm;
+            uiMsTotal +=
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - u0)
+                    .count();
+            for (const UiAction& a : actions) {
+                if (switched) break;
+                if (a.name == "preferences_changed") {
+                    mode = render::parseStereoMode(cfg.render.stereo);
+                    display.ipdMm = cfg.render.ipdMm;
+                    uiLayer->setScale(float(cfg.render.uiScale));
+                } else if (applySharedUiAction(a, *rig, uiState, cfg, message, switched)) {
+                    if (!message.empty()) out << "vsculpt: " << message << "\n";
+                } else {
+                    doAction(a.name);
+                }
+            }
+            if (switched) continue;
+        }
         rig->pumpDevices(out);
         worldFromObject = worldFromObjectMatrix();
         // A tracker pen, when one reports, places the tool; the pointer does otherwise.
@@ -251,12 +326,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         const Vec3 downObj = glm::normalize(Vec3(objectFromWorld * glm::dvec4(0, 0, -1, 0)));
         const double toolRadius = 0.5 * level.diameterMm;
         ToolPick pick = pickTool(session, oObj, dObj, toolRadius, depthOffset, downObj);
-        {
-            double nx = 0, ny = 0;
-            viewer->pixelToEyeNdc(cursorX, cursorY, mode, nx, ny);
-            if (!render::pickPalette(palette, nx, ny))
-                lastSculptPoint = pick.surfaceHit ? *pick.surfaceHit : pick.toolCentre;
-        }
+        if (!overUi()) lastSculptPoint = pick.surfaceHit ? *pick.surfaceHit : pick.toolCentre;
         if (penWorld) {
             toolWorld = *penWorld;  // DeviceInput already moved the tool with every sample
             pick = toolCues(session, Vec3(objectFromWorld * glm::dvec4(toolWorld, 1)), toolRadius,
@@ -288,22 +358,21 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         // the sculpture.
         viewer->setTrackedHead(devices ? devices->worldFromHead(devices::monotonicNowNs())
                                        : std::optional<glm::dmat4>());
-        const render::FrameStats st = viewer->draw(
-            worldFromObject, frameBox, tool, mode, display, lens, palette,
-            render::statusQuads({session.tool() == ToolKind::Add     ? 0
-                                 : session.tool() == ToolKind::Carve ? 1
-                                                                     : 2,
-                                 session.size(), session.zoom(),
-                                 long(session.sculpture().counts().total()), frameMs}));
+        const render::FrameStats st = viewer->draw(worldFromObject, frameBox, tool, mode, display,
+                                                   lens, uiLayer ? &uiImage : nullptr);
         ++frame;
         const bool last = o.frames > 0 && frame >= size_t(o.frames);
-        if (last && !o.shotPath.empty()) {
-            try {
-                render::writePng(viewer->readFrame(), o.shotPath);
-                out << "vsculpt: wrote " << o.shotPath << "\n";
-            } catch (const std::exception& e) {
-                err << "vsculpt: error: " << e.what() << "\n";
-                return 1;
+        if (last && (!o.shotPath.empty() || o.lastFrame)) {
+            const render::Image img = viewer->readFrame();
+            if (o.lastFrame) *o.lastFrame = img;
+            if (!o.shotPath.empty()) {
+                try {
+                    render::writePng(img, o.shotPath);
+                    out << "vsculpt: wrote " << o.shotPath << "\n";
+                } catch (const std::exception& e) {
+                    err << "vsculpt: error: " << e.what() << "\n";
+                    return 1;
+                }
             }
         }
         viewer->swap();
@@ -323,6 +392,21 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
     }
     // Closing ends the stroke in flight: it is journaled like any other.
     rig->studio().endStroke();
+    if (o.report) {
+        WindowOptions::Report& r = *o.report;
+        const Session& s = rig->session();
+        r.tool = s.tool();
+        r.size = s.size();
+        r.zoom = s.zoom();
+        r.skeletons = s.sculpture().counts().total();
+        r.steps = rig->studio().stepCount();
+        r.message = message;
+        r.ui = uiState;
+        r.display = viewer->lastDisplay();
+        r.uiShiftNdc[0] = viewer->lastUiShiftNdc(render::Eye::Left);
+        r.uiShiftNdc[1] = viewer->lastUiShiftNdc(render::Eye::Right);
+        r.meanUiMs = frame > 0 ? uiMsTotal / double(frame) : 0;
+    }
     if (rig->devices() && !rig->devices()->counters().empty()) out << rig->devices()->summary();
     out << "vsculpt: " << frame << " frame(s), " << rig->session().sculpture().counts().total()
         << " skeletons, last frame " << frameMs << " ms\n";

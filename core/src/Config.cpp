@@ -448,6 +448,8 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
             rend.fail("render.fullscreen_monitor", "expected an integer (-1: windowed)");
         cfg.render.fullscreenMonitor = v->get<int>();
     }
+    rend.number("ui_depth_mm", cfg.render.uiDepthMm);
+    rend.number("ui_scale", cfg.render.uiScale);
     Section lens = rend.sub("lens");
     lens.number("k1", cfg.render.lensK1);
     lens.number("k2", cfg.render.lensK2);
@@ -480,9 +482,9 @@ SculptConfig loadConfig(const std::filesystem::path& path) {
 
 const std::vector<std::string>& bindableActions() {
     static const std::vector<std::string> a = {
-        "cycle_tool", "step",   "zoom_in", "zoom_out", "overview",   "undo",   "redo",
-        "quit",       "size_1", "size_2",  "size_3",   "size_4",     "size_5", "size_6",
-        "size_7",     "save",   "save_as", "export",   "new_project"};
+        "cycle_tool", "step",   "zoom_in", "zoom_out", "overview",    "undo",   "redo",
+        "quit",       "size_1", "size_2",  "size_3",   "size_4",      "size_5", "size_6",
+        "size_7",     "save",   "save_as", "export",   "new_project", "help"};
     return a;
 }
 
@@ -524,6 +526,8 @@ std::string configToJson(const SculptConfig& c) {
                    {"ipd_mm", c.render.ipdMm},
                    {"vertical_fov_deg", c.render.verticalFovDeg},
                    {"fullscreen_monitor", c.render.fullscreenMonitor},
+                   {"ui_depth_mm", c.render.uiDepthMm},
+                   {"ui_scale", c.render.uiScale},
                    {"lens",
                     {{"k1", c.render.lensK1},
                      {"k2", c.render.lensK2},
@@ -627,6 +631,11 @@ void validateConfig(const SculptConfig& c) {
         fail("interaction.rotate_rad_per_pixel", "must be in (0, 1]");
     if (!(std::isfinite(c.render.ipdMm) && c.render.ipdMm >= 0 && c.render.ipdMm <= 200))
         fail("render.ipd_mm", "must be in [0, 200] mm");
+    if (!(std::isfinite(c.render.uiDepthMm) && c.render.uiDepthMm >= 0 &&
+          c.render.uiDepthMm <= 100000))
+        fail("render.ui_depth_mm", "must be in [0, 100000] mm (0: the zero-parallax plane)");
+    if (!(std::isfinite(c.render.uiScale) && c.render.uiScale >= 0.5 && c.render.uiScale <= 4))
+        fail("render.ui_scale", "must be in [0.5, 4]");
     if (!(c.render.verticalFovDeg >= 5 && c.render.verticalFovDeg <= 170))
         fail("render.vertical_fov_deg", "must be in [5, 170] degrees");
     if (c.render.fullscreenMonitor < -1) fail("render.fullscreen_monitor", "must be >= -1");

@@ -33,6 +33,16 @@ std::array<EyeView, 2> stereoEyes(const glm::dmat4& worldFromHead, const StereoD
     return eyes;
 }
 
+double eyeShiftNdc(const StereoDisplay& d, double depthMm, Eye eye) {
+    if (!(depthMm > 0) || d.ipdMm <= 0) return 0;
+    // The eye at offset o sees a point on the head's axis at depth Z through the zero-parallax
+    // window (half-width F tan(fov/2) aspect at distance F) at o (1 - F / Z).
+    const double offset = (eye == Eye::Left ? -0.5 : 0.5) * d.ipdMm;
+    const double halfWidth =
+        d.focalDistanceMm * std::tan(glm::radians(d.verticalFovDeg) * 0.5) * d.aspect;
+    return offset * (1 - d.focalDistanceMm / depthMm) / halfWidth;
+}
+
 glm::dmat4 frameFromFront(const glm::dvec3& boxMin, const glm::dvec3& boxMax, double aspect,
                           StereoDisplay& d) {
     const bool empty = boxMin.x > boxMax.x;

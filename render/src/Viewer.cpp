@@ -70,17 +70,21 @@ void main() {
     color = vec4(channel(d * scaleRB.x, 0), channel(d, 1), channel(d * scaleRB.y, 2), 1.0);
 })";
 
-static const char* kPaletteVertex = R"(#version 330 core
-uniform vec4 rect;  // x0, y0, x1, y1 in NDC
+static const char* kUiVertex = R"(#version 330 core
+uniform vec4 rect;    // x0, y0, x1, y1 in NDC
+uniform vec4 uvRect;  // the same corners in the UI texture (row 0 at its bottom, as GL draws)
+out vec2 uv;
 void main() {
     vec2 corner = vec2(gl_VertexID & 1, (gl_VertexID >> 1) & 1);
+    uv = mix(uvRect.xy, uvRect.zw, corner);
     gl_Position = vec4(mix(rect.xy, rect.zw, corner), 0.0, 1.0);
 })";
 
-static const char* kPaletteFragment = R"(#version 330 core
-uniform vec3 fill;
+static const char* kUiFragment = R"(#version 330 core
+in vec2 uv;
+uniform sampler2D ui;
 out vec4 color;
-void main() { color = vec4(fill, 1.0); })";
+void main() { color = texture(ui, uv); })";
 
 struct Viewer::Impl {
     detail::WindowPtr window;
@@ -91,7 +95,10 @@ struct Viewer::Impl {
     // Surface lines drawn on the model (object space), as GL_LINES pairs.
     std::vector<std::vector<core::Vec3>> lines;
     detail::GpuMesh lineMesh;
-    GLuint paletteProgram = 0;
+    GLuint uiProgram = 0;
+    // The display of the last draw and the UI shift it gave each eye (NDC).
+    StereoDisplay lastDisplay;
+    double uiShift[2] = {0, 0};
     GLuint postProgram = 0, postVao = 0;
     GLuint eyeFbo = 0, eyeColor = 0, eyeDepth = 0;
     int eyeW = 0, eyeH = 0;
@@ -127,6 +134,10 @@ Viewer::Viewer(int width, int height, const std::string& title, bool visible)
         static_cast<Impl*>(glfwGetWindowUserPointer(win))
             ->events.push_back({InputEvent::Kind::Scroll, 0, false, dx, dy});
     });
+    glfwSetCharCallback(w, [](GLFWwindow* win, unsigned int codepoint) {
+        static_cast<Impl*>(glfwGetWindowUserPointer(win))
+            ->events.push_back({InputEvent::Kind::Char, int(codepoint), true, 0, 0});
+    });
     mImpl->program = detail::clayProgram();
     mImpl->clipLoc = glGetUniformLocation(mImpl->program, "clipFromWorld");
     mImpl->worldFromObjectLoc = glGetUniformLocation(mImpl->program, "worldFromObject");
@@ -134,7 +145,7 @@ Viewer::Viewer(int width, int height, const std::string& title, bool visible)
     mImpl->tintLoc = glGetUniformLocation(mImpl->program, "tint");
     mImpl->sphere.upload(unitSphere(16, 32));
     mImpl->postProgram = detail::linkProgram(kPostVertex, kPostFragment);
-    mImpl->paletteProgram = detail::linkProgram(kPaletteVertex, kPaletteFragment);
+    mImpl->uiProgram = detail::linkProgram(kUiVertex, kUiFragment);
     glGenVertexArrays(1, &mImpl->postVao);
     glfwSwapInterval(0);
     detail::checkGl("Viewer setup");
@@ -149,7 +160,7 @@ Viewer::~Viewer() {
     mImpl->lineMesh.release();
     glDeleteProgram(mImpl->program);
     glDeleteProgram(mImpl->postProgram);
-    glDeleteProgram(mImpl->paletteProgram);
+    glDeleteProgram(mImpl->uiProgram);
     glDeleteVertexArrays(1, &mImpl->postVao);
     if (mImpl->eyeFbo) {
         glDeleteFramebuffers(1, &mImpl->eyeFbo);
@@ -214,8 +225,7 @@ size_t Viewer::syncChunks(const core::Polygonizer& view) {
 
 FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& frameBox,
                         const ToolDraw& tool, StereoMode mode, const StereoDisplay& displayIn,
-                        const LensCorrection& lens, const std::vector<PaletteItem>& palette,
-                        const std::vector<OverlayQuad>& overlay) {
+                        const LensCorrection& lens, const UiImage* ui) {
     const auto t0 = std::chrono::steady_clock::now();
     FrameStats stats;
     const int fullW = width(), h = height();
@@ -234,6 +244,15 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
     const glm::dmat4 worldFromHead = mImpl->trackedHead.value_or(framedHead);
     if (mode == StereoMode::Mono) d.ipdMm = 0;
     const auto eyes = stereoEyes(worldFromHead, d);
+    mImpl->lastDisplay = d;
+    for (int e = 0; e < 2; ++e) {
+        // Whole pixels: the UI texture then maps 1:1 onto the eye's image and text stays sharp.
+        const int eyeW = sbs ? w / 2 : w;
+        const double px = ui && mode != StereoMode::Mono
+                              ? std::round(eyeShiftNdc(d, ui->depthMm, Eye(e)) * eyeW / 2)
+                              : 0.0;
+        mImpl->uiShift[e] = 2 * px / std::max(1, eyeW);
+    }
     {
         StereoDisplay mono = d;
         mono.ipdMm = 0;
@@ -351,26 +370,10 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
                 mImpl->sphere.draw();
             }
         }
-        if (!palette.empty() || !overlay.empty()) {
-            // Palette and status: flat quads at the same NDC in each eye (screen depth).
-            glDisable(GL_DEPTH_TEST);
-            glUseProgram(mImpl->paletteProgram);
-            glBindVertexArray(mImpl->postVao);
-            auto quad = [&](double x0, double y0, double x1, double y1, const glm::vec3& fill) {
-                glUniform4f(glGetUniformLocation(mImpl->paletteProgram, "rect"), float(x0),
-                            float(y0), float(x1), float(y1));
-                glUniform3fv(glGetUniformLocation(mImpl->paletteProgram, "fill"), 1,
-                             glm::value_ptr(fill));
-                glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
-            };
-            for (const PaletteItem& it : palette)
-                quad(it.x0, it.y0, it.x1, it.y1,
-                     it.current                           ? glm::vec3(1.0f, 0.85f, 0.25f)
-                     : it.kind == PaletteItem::Kind::Size ? glm::vec3(0.75f, 0.78f, 0.85f)
-                                                          : glm::vec3(0.45f, 0.6f, 0.9f));
-            for (const OverlayQuad& q : overlay)
-                quad(q.x0, q.y0, q.x1, q.y1, {q.r, q.g, q.b});
-            glEnable(GL_DEPTH_TEST);
+        if (ui && ui->texture && ui->usedX1 > ui->usedX0 && ui->usedY1 > ui->usedY0) {
+            // The UI over the scene, shifted by this eye's disparity; before the lens
+            // correction, so it is pre-distorted like the scene.
+            compositeUi(*ui, mImpl->uiShift[e]);
         }
         if (corrected) {
             // Resample this eye through the lens correction into its half of the window.
@@ -397,6 +400,74 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
     stats.cpuMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return stats;
+}
+
+void Viewer::compositeUi(const UiImage& ui, double shiftNdc) {
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);  // the UI texture is premultiplied
+    glUseProgram(mImpl->uiProgram);
+    glBindVertexArray(mImpl->postVao);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, ui.texture);
+    glUniform1i(glGetUniformLocation(mImpl->uiProgram, "ui"), 0);
+    // Only the used part: the texture maps onto the whole eye image, shifted.
+    const double w = std::max(1, ui.width), h = std::max(1, ui.height);
+    const double u0 = ui.usedX0 / w, u1 = ui.usedX1 / w;
+    const double v0 = 1 - ui.usedY1 / h, v1 = 1 - ui.usedY0 / h;
+    glUniform4f(glGetUniformLocation(mImpl->uiProgram, "rect"), float(2 * u0 - 1 + shiftNdc),
+                float(2 * v0 - 1), float(2 * u1 - 1 + shiftNdc), float(2 * v1 - 1));
+    glUniform4f(glGetUniformLocation(mImpl->uiProgram, "uvRect"), float(u0), float(v0), float(u1),
+                float(v1));
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glDisable(GL_BLEND);
+    glEnable(GL_DEPTH_TEST);
+}
+
+void Viewer::overlayUi(const UiImage& ui) {
+    if (!ui.texture || ui.usedX1 <= ui.usedX0 || ui.usedY1 <= ui.usedY0) return;
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, width(), height());
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    compositeUi(ui, 0);
+    detail::checkGl("Viewer::overlayUi");
+}
+
+glm::ivec2 Viewer::eyeImageSize(StereoMode mode) const {
+    const int fullW = width(), h = height();
+    const int x0 = mImpl->areaW > 0 ? std::min(mImpl->areaX, fullW - 1) : 0;
+    const int w = mImpl->areaW > 0 ? std::max(1, std::min(mImpl->areaW, fullW - x0)) : fullW;
+    return {std::max(1, mode == StereoMode::SideBySide ? w / 2 : w), std::max(1, h)};
+}
+
+glm::dvec2 Viewer::pointerOnUi(double x, double y, StereoMode mode, glm::ivec2 uiSize) const {
+    int w = 0, h = 0;
+    glfwGetWindowSize(mImpl->window.get(), &w, &h);
+    windowToArea(x, w);
+    double ex = x, ew = std::max(1, w), shift = 0;
+    if (mode == StereoMode::SideBySide) {
+        ew = std::max(1, w / 2);
+        const int eye = ex >= ew ? 1 : 0;
+        if (eye == 1) ex -= ew;
+        shift = mImpl->uiShift[eye];
+    }
+    // Anaglyph: the eyes' shifts are opposite, the pointer is seen between them (no shift).
+    const double nx = ex / ew * 2 - 1 - shift;
+    return {(nx + 1) / 2 * uiSize.x, y / std::max(1, h) * uiSize.y};
+}
+
+glm::dvec2 Viewer::windowToFramebuffer(double x, double y) const {
+    int w = 0, h = 0;
+    glfwGetWindowSize(mImpl->window.get(), &w, &h);
+    return {x * width() / std::max(1, w), y * height() / std::max(1, h)};
+}
+
+const StereoDisplay& Viewer::lastDisplay() const {
+    return mImpl->lastDisplay;
+}
+
+double Viewer::lastUiShiftNdc(Eye eye) const {
+    return mImpl->uiShift[int(eye)];
 }
 
 void Viewer::setSurfaceLines(const std::vector<std::vector<core::Vec3>>& lines) {

@@ -6,10 +6,12 @@
 #include "vsculpt/core/Sculpture.h"
 #include "vsculpt/render/RayTrace.h"
 #include "vsculpt/render/Shot.h"
+#include "vsculpt/render/UiLayer.h"
 
 #include "TestScene.h"
 
 #include <gtest/gtest.h>
+#include <imgui.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -172,7 +174,21 @@ TEST(Viewer, DrawsChunksAndReuploadsOnlyChangedOnes) {
 
 namespace {
 
-TEST(Viewer, PaletteIsDrawnAtTheSamePlaceInBothEyes) {
+bool orange(const uint8_t* p) {
+    return p[0] > 230 && p[1] > 100 && p[1] < 160 && p[2] < 30;
+}
+
+// The first orange column of row `y` in [x0, x1), or -1.
+int firstOrange(const Image& img, int y, int x0, int x1) {
+    for (int x = x0; x < x1; ++x)
+        if (orange(img.pixel(x, y))) return x;
+    return -1;
+}
+
+// The UI is drawn once into its texture and composited into each eye: at the same place on
+// the zero-parallax plane, shifted by the eyes' disparity when it is nearer, and resampled
+// with the scene by the lens correction. The pointer maps back through the eye under it.
+TEST(Viewer, UiIsCompositedIntoEachEyeAtItsDepth) {
     core::SculptConfig cfg;
     cfg.sphereRadiusMm = 30;
     cfg.polygonizer.gridN = 32;
@@ -181,23 +197,58 @@ TEST(Viewer, PaletteIsDrawnAtTheSamePlaceInBothEyes) {
     poly.rebuildAll();
     Viewer viewer(480, 240, "test", false);
     viewer.syncChunks(poly);
+    UiLayer ui(viewer);
     ToolDraw tool;
     tool.visible = false;
-    const auto palette = layoutPalette({7, 6, 5}, 6, 1);
-    viewer.draw(glm::dmat4(1.0), core::meshBounds(poly.mesh()), tool, StereoMode::SideBySide,
-                StereoDisplay{}, LensCorrection{}, palette);
-    const Image img = viewer.readFrame();
-    for (const PaletteItem& it : palette) {
-        // The item's centre, in each half of the window: the same colour in both eyes.
-        const double cx = 0.5 * (it.x0 + it.x1), cy = 0.5 * (it.y0 + it.y1);
-        const int px = int((cx + 1) / 2 * (img.width / 2)), py = int((1 - cy) / 2 * img.height);
-        const uint8_t* l = img.pixel(px, py);
-        const uint8_t* r = img.pixel(px + img.width / 2, py);
-        for (int c = 0; c < 3; ++c)
-            EXPECT_EQ(l[c], r[c]);
-        if (it.current) EXPECT_GT(int(l[0]), 200);    // the current size and zoom are yellow
-        EXPECT_GT(int(l[0]) + l[1] + l[2], 3 * 100);  // brighter than the background
-    }
+    const core::Aabb box = core::meshBounds(poly.mesh());
+    const glm::ivec2 eye = viewer.eyeImageSize(StereoMode::SideBySide);
+    ASSERT_EQ(eye, glm::ivec2(240, 240));
+    auto frame = [&](double depthMm, const LensCorrection& lens) {
+        ui.beginFrame(eye.x, eye.y, 1.0 / 60);
+        // An opaque orange panel 80 x 60 at (60, 20) of the eye's image.
+        ImGui::SetNextWindowPos(ImVec2(60, 20));
+        ImGui::SetNextWindowSize(ImVec2(80, 60));
+        ImGui::PushStyleColor(ImGuiCol_WindowBg, ImVec4(1, 0.5f, 0, 1));
+        ImGui::PushStyleVar(ImGuiStyleVar_WindowBorderSize, 0.f);
+        ImGui::Begin("panel", nullptr, ImGuiWindowFlags_NoDecoration);
+        ImGui::End();
+        ImGui::PopStyleVar();
+        ImGui::PopStyleColor();
+        UiImage img = ui.endFrame();
+        img.depthMm = depthMm;
+        viewer.draw(glm::dmat4(1.0), box, tool, StereoMode::SideBySide, StereoDisplay{}, lens,
+                    &img);
+        return viewer.readFrame();
+    };
+    // On the zero-parallax plane: the same pixels in both eyes.
+    Image img = frame(0, {});
+    EXPECT_EQ(firstOrange(img, 50, 0, 240), 60);
+    EXPECT_EQ(firstOrange(img, 50, 240, 480), 240 + 60);
+    EXPECT_TRUE(orange(img.pixel(139, 79)));
+    EXPECT_FALSE(orange(img.pixel(140, 50)));
+    // Nearer than the plane: crossed disparity, by the projection's amount in whole pixels.
+    const double depth = 0.7 * viewer.lastDisplay().focalDistanceMm;
+    img = frame(depth, {});
+    const StereoDisplay d = viewer.lastDisplay();
+    const int left = int(std::lround(eyeShiftNdc(d, depth, Eye::Left) * eye.x / 2));
+    const int right = int(std::lround(eyeShiftNdc(d, depth, Eye::Right) * eye.x / 2));
+    EXPECT_GT(left, 2);
+    EXPECT_EQ(right, -left);
+    EXPECT_EQ(firstOrange(img, 50, 0, 240), 60 + left);
+    EXPECT_EQ(firstOrange(img, 50, 240, 480), 240 + 60 + right);
+    EXPECT_NEAR(viewer.lastUiShiftNdc(Eye::Left), 2.0 * left / eye.x, 1e-12);
+    // The pointer over the right eye's copy of the panel's left edge is on the panel's edge.
+    const glm::dvec2 p =
+        viewer.pointerOnUi(240 + 60 + right + 0.5, 50, StereoMode::SideBySide, eye);
+    EXPECT_NEAR(p.x, 60.5, 1e-9);
+    EXPECT_NEAR(p.y, 50, 1e-9);
+    // With lens correction the panel is resampled with the scene: barrel pre-distortion pulls
+    // its outer edge towards the eye's centre, in both eyes.
+    img = frame(0, LensCorrection{0.3, 0.1, 1, 1});
+    const int warpedL = firstOrange(img, 60, 0, 240), warpedR = firstOrange(img, 60, 240, 480);
+    EXPECT_GT(warpedL, 60);
+    EXPECT_GT(warpedR, 240 + 60);
+    EXPECT_NEAR(warpedR - 240, warpedL, 1);
 }
 
 TEST(Viewer, LensCorrectionResamplesEachEye) {

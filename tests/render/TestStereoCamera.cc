@@ -79,59 +79,30 @@ TEST(StereoCamera, RejectsImpossibleDisplays) {
 
 }  // namespace
 
-#include "vsculpt/render/Palette.h"
-
 namespace {
 
-TEST(Palette, OffersExactlyTheAllowedSizesAndEveryZoomLevel) {
-    const auto items = layoutPalette({5, 4, 3}, 4, 3);
-    std::vector<int> sizes, zooms;
-    for (const PaletteItem& it : items) {
-        (it.kind == PaletteItem::Kind::Size ? sizes : zooms).push_back(it.value);
-        EXPECT_EQ(it.current, it.kind == PaletteItem::Kind::Size ? it.value == 4 : it.value == 3);
-        EXPECT_LT(it.x0, it.x1);
-        EXPECT_GE(it.x0, -1.0);
-        EXPECT_LE(it.x1, 1.0);
-    }
-    EXPECT_EQ(sizes, (std::vector<int>{5, 4, 3}));
-    EXPECT_EQ(zooms, (std::vector<int>{1, 2, 3, 4, 5}));
-    for (size_t i = 1; i < items.size(); ++i)
-        EXPECT_GT(items[i].x0, items[i - 1].x1);  // no overlap
-    for (const PaletteItem& it : items) {
-        const PaletteItem* p = pickPalette(items, 0.5 * (it.x0 + it.x1), 0.5 * (it.y0 + it.y1));
-        ASSERT_NE(p, nullptr);
-        EXPECT_EQ(p->value, it.value);
-        EXPECT_EQ(p->kind, it.kind);
-    }
-    EXPECT_EQ(pickPalette(items, 0, 0), nullptr);  // the middle of the view is for sculpting
-}
-
-}  // namespace
-
-namespace {
-
-TEST(Status, SevenSegmentDigitsAndTheStatusLine) {
-    // Segment counts of 0..9: 6 2 5 5 4 5 6 3 7 6.
-    const int segments[10] = {6, 2, 5, 5, 4, 5, 6, 3, 7, 6};
-    for (int d = 0; d < 10; ++d)
-        EXPECT_EQ(sevenSegmentNumber(d, 0, 0, 0.1).size(), size_t(segments[d]));
-    EXPECT_EQ(sevenSegmentNumber(1234, 0, 0, 0.1).size(), size_t(2 + 5 + 5 + 4));
-    // Digits advance to the right and stay inside their cell.
-    const auto q = sevenSegmentNumber(88, 0.1, 0.2, 0.1);
-    EXPECT_LT(q[0].x1, q[7].x0 + 1e-12);
-    for (const auto& r : q) {
-        EXPECT_GE(r.y0, 0.2 - 1e-12);
-        EXPECT_LE(r.y1, 0.3 + 1e-12);
-    }
-    // The status line: a tool-coloured square, then size 5, zoom 3, 1234 skeletons, 17 ms.
-    const auto s = statusQuads({1, 5, 3, 1234, 16.6});
-    EXPECT_EQ(s.size(), size_t(1 + 5 + 5 + 16 + 2 + 3));
-    EXPECT_GT(s[0].r, s[0].g);  // carve: red
-    for (const auto& r : s) {
-        EXPECT_GE(r.x0, -1.0);
-        EXPECT_LE(r.x1, 1.0);
-        EXPECT_GT(r.y0, 0.5);  // along the top edge, away from the palette
-    }
+// The UI's disparity (eyeShiftNdc) against the projection itself: a point straight ahead at
+// the UI's depth lands where the shifted UI is drawn in each eye, whatever the display.
+TEST(StereoCamera, EyeShiftIsWhereAPointAtThatDepthIsDrawn) {
+    for (double aspect : {0.8, 1.6})
+        for (double depth : {150.0, 400.0, 600.0, 2000.0}) {
+            StereoDisplay d;
+            d.ipdMm = 63;
+            d.focalDistanceMm = 600;
+            d.aspect = aspect;
+            const auto eyes = stereoEyes(glm::dmat4(1.0), d);
+            for (int e = 0; e < 2; ++e)
+                EXPECT_NEAR(eyeShiftNdc(d, depth, Eye(e)),
+                            projectToNdc(eyes[size_t(e)], {0, 0, -depth}).x, 1e-12)
+                    << depth << " " << e;
+        }
+    StereoDisplay d;
+    EXPECT_GT(eyeShiftNdc(d, 300, Eye::Left), 0);  // nearer than the plane: crossed
+    EXPECT_LT(eyeShiftNdc(d, 300, Eye::Right), 0);
+    EXPECT_EQ(eyeShiftNdc(d, d.focalDistanceMm, Eye::Left), 0);
+    EXPECT_EQ(eyeShiftNdc(d, 0, Eye::Left), 0);  // 0: on the zero-parallax plane
+    d.ipdMm = 0;
+    EXPECT_EQ(eyeShiftNdc(d, 300, Eye::Right), 0);
 }
 
 }  // namespace

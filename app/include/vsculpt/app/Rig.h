@@ -8,6 +8,7 @@
 
 #include "vsculpt/app/DeviceInput.h"
 #include "vsculpt/app/LiveDevices.h"
+#include "vsculpt/core/ExportMesh.h"
 #include "vsculpt/render/ProjectStroke.h"
 #include "vsculpt/studio/Interaction.h"
 #include "vsculpt/studio/Studio.h"
@@ -17,6 +18,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace vsculpt::app {
 
@@ -45,8 +47,16 @@ RigOptions windowRigOptions(const std::string& projectDir, bool noProject, bool 
 std::filesystem::path dataDir();
 /// The project the windows opened last, when it still exists.
 std::optional<std::filesystem::path> lastProject();
-/// Remembers `dir` as the last project (best effort: a failure is only reported).
+/// Remembers `dir` as the last project and at the top of the recent projects (best effort:
+/// a failure is only reported).
 void rememberLastProject(const std::filesystem::path& dir, std::ostream& err);
+/// The recent projects, most recent first (dataDir()/recent-projects, one absolute path a
+/// line), only those whose folder still holds a project.
+std::vector<std::filesystem::path> recentProjects();
+/// `list` with `dir` moved (or added) to the front and cut to `max` entries.
+std::vector<std::filesystem::path> withRecentProject(std::vector<std::filesystem::path> list,
+                                                     const std::filesystem::path& dir,
+                                                     size_t max = 10);
 /// A new, unused folder under dataDir()/`kind` named after the local time.
 std::filesystem::path newProjectDir(const std::string& kind);
 
@@ -89,8 +99,16 @@ class Rig {
     /// Save as: the whole project copied to `dir` (a new folder) and continued there; the
     /// old project stays as it was at this moment. Returns what it did.
     std::string saveAs(const std::filesystem::path& dir);
-    /// The whole sculpture exported to `path` (format from the extension; ExportMesh.h).
-    std::string exportTo(const std::filesystem::path& path);
+    /// The whole sculpture exported to `path` (format from the extension, frame from
+    /// `options`; ExportMesh.h). Throws core::ExportError and file errors naming the path.
+    std::string exportTo(const std::filesystem::path& path,
+                         const core::ExportOptions& options = {});
+    /// Where the export key writes: exports/DATE-TIME.glb in the project (dataDir()/exports
+    /// without a project).
+    std::filesystem::path defaultExportPath() const;
+    /// Saves this project and continues in the project in `dir` (opened and locked first: when
+    /// that fails nothing changes and the error is thrown). Returns what it did.
+    std::string openProject(const std::filesystem::path& dir);
     /// Saves this project and continues in a new autosave project (an empty sculpture).
     std::string newProject();
     /// The windows' project keys: "save", "save_as" (to a new folder under dataDir()/projects),

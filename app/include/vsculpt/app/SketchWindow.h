@@ -7,6 +7,7 @@
 
 #include "vsculpt/app/Log.h"
 
+#include "vsculpt/app/WindowUi.h"
 #include "vsculpt/render/Shot.h"
 #include "vsculpt/render/Viewer.h"
 
@@ -37,6 +38,8 @@ struct SketchWindowOptions {
     /// Tests: input events delivered at the given frame (0-based), as if from the mouse,
     /// keyboard or window system, through the window's real input handling.
     std::vector<std::pair<size_t, render::InputEvent>> injectedEvents;
+    bool ui = true;               ///< the on-screen UI (off: measuring what it costs)
+    UiState* uiReport = nullptr;  ///< tests: the UI's state and rectangles after the last frame
 };
 
 /// Exit code 0; 1 when no window can be opened (the message says why and points to

@@ -6,8 +6,15 @@
 
 #include "vsculpt/app/Log.h"
 
+#include "vsculpt/app/WindowUi.h"
+#include "vsculpt/render/Shot.h"
+#include "vsculpt/render/StereoCamera.h"
+#include "vsculpt/render/Viewer.h"
+
+#include <functional>
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 namespace vsculpt::app {
 
@@ -25,6 +32,25 @@ struct WindowOptions {
     /// under $XDG_DATA_HOME/vsculpt/autosave (docs/projects.md).
     std::string projectDir;
     bool noProject = false;  ///< nothing saved (a scratch session)
+    bool ui = true;          ///< the on-screen UI (off: measuring what it costs)
+
+    /// Tests: called at the start of every frame (0-based) with the UI as last drawn; events
+    /// pushed to `inject` go through the window's real input handling this frame.
+    std::function<void(size_t frame, const UiState& ui, std::vector<render::InputEvent>& inject)>
+        onFrame;
+    /// Tests: the last frame and the session's state after it.
+    render::Image* lastFrame = nullptr;
+    struct Report {
+        studio::ToolKind tool = studio::ToolKind::Add;
+        int size = 0, zoom = 0;
+        size_t skeletons = 0, steps = 0;
+        std::string message;
+        UiState ui;                     ///< the UI's state and rectangles after the last frame
+        render::StereoDisplay display;  ///< the last frame's (Viewer::lastDisplay)
+        double uiShiftNdc[2] = {0, 0};  ///< the UI's shift in each eye (Viewer::lastUiShiftNdc)
+        double meanUiMs = 0;            ///< CPU time of the UI frame (build + render), mean
+    };
+    Report* report = nullptr;
 };
 
 /// Exit code 0; 1 when no window can be opened (the message says why and points to

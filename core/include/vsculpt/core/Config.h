@@ -62,11 +62,11 @@ const std::vector<std::string>& sketchBindableActions();
 struct InteractionConfig {
     /// action -> key name (GLFW names without the GLFW_KEY_ prefix: "TAB", "SPACE", "Z", "1").
     std::map<std::string, std::string> bindings{
-        {"cycle_tool", "TAB"}, {"step", "SPACE"}, {"zoom_in", "Z"}, {"zoom_out", "X"},
-        {"overview", "O"},     {"undo", "U"},     {"redo", "R"},    {"quit", "ESCAPE"},
-        {"size_1", "1"},       {"size_2", "2"},   {"size_3", "3"},  {"size_4", "4"},
-        {"size_5", "5"},       {"size_6", "6"},   {"size_7", "7"},  {"save", "F5"},
-        {"save_as", "F6"},     {"export", "F7"},  {"new_project", "F8"}};
+        {"cycle_tool", "TAB"}, {"step", "SPACE"}, {"zoom_in", "Z"},      {"zoom_out", "X"},
+        {"overview", "O"},     {"undo", "U"},     {"redo", "R"},         {"quit", "ESCAPE"},
+        {"size_1", "1"},       {"size_2", "2"},   {"size_3", "3"},       {"size_4", "4"},
+        {"size_5", "5"},       {"size_6", "6"},   {"size_7", "7"},       {"save", "F5"},
+        {"save_as", "F6"},     {"export", "F7"},  {"new_project", "F8"}, {"help", "F1"}};
     /// The sketch window's keys, action -> key name (the same names).
     std::map<std::string, std::string> sketchBindings{{"undo", "U"},
                                                       {"redo", "R"},
@@ -108,7 +108,8 @@ struct InteractionConfig {
                                                       {"save", "F5"},
                                                       {"save_as", "F6"},
                                                       {"export", "F7"},
-                                                      {"new_project", "F8"}};
+                                                      {"new_project", "F8"},
+                                                      {"help", "F4"}};
     double depthStepOverDiameter = 0.25;  ///< scroll notch moves the tool by this x D
     double rotateRadPerPixel = 0.01;      ///< right-drag turns the object by this per pixel
 };
@@ -121,6 +122,10 @@ struct RenderConfig {
     int fullscreenMonitor = -1;     ///< -1: a window; 0, 1, ...: full screen on that monitor
     double lensK1 = 0, lensK2 = 0;  ///< radial pre-distortion (sbs only)
     double lensRedScale = 1, lensBlueScale = 1;  ///< chromatic aberration correction
+    /// Distance of the on-screen UI from the eyes in stereo, mm; 0: on the zero-parallax
+    /// plane (screen depth, the same place in both eyes). docs/window.md, "The on-screen UI".
+    double uiDepthMm = 0;
+    double uiScale = 1;  ///< size of the UI's text and widgets (1: 13 px text)
 };
 
 /// One kind of USB device the device layer opens (configs/sculpt.json "devices.match";

@@ -41,6 +41,13 @@ std::array<EyeView, 2> stereoEyes(const glm::dmat4& worldFromHead, const StereoD
 glm::dmat4 frameFromFront(const glm::dvec3& boxMin, const glm::dvec3& boxMax, double aspect,
                           StereoDisplay& display);
 
+/// How far (in the eye's NDC x, image width = 2) a point straight ahead of the head at
+/// `depthMm` from the eyes is drawn away from where a mono camera would draw it, in `eye`'s
+/// image: the horizontal disparity of a flat overlay (the on-screen UI) placed at that depth.
+/// 0 on the zero-parallax plane (depth = display.focalDistanceMm) or with no IPD; positive
+/// (rightwards) in the left eye for depths nearer than the plane (crossed parallax).
+double eyeShiftNdc(const StereoDisplay& display, double depthMm, Eye eye);
+
 /// Where a world point lands in an eye's normalised device coordinates (x, y in [-1, 1] on
 /// screen, z depth).
 glm::dvec3 projectToNdc(const EyeView& eye, const glm::dvec3& worldPoint);

@@ -3,13 +3,15 @@
 /// @brief The sculpting window's drawing side: a GLFW window with an OpenGL 3.3 core
 /// context that keeps the polygonizer's chunks on the GPU (re-uploading only chunks whose
 /// version changed) and draws them with the tool, in mono, side-by-side or anaglyph stereo.
-/// Input is collected as events for the application to map (bindings live in app/).
+/// Input is collected as events for the application to map (bindings live in app/). The
+/// on-screen UI arrives as a texture (UiImage, drawn by UiLayer) composited into each eye.
 #pragma once
 
 #include "vsculpt/core/Polygonizer.h"
-#include "vsculpt/render/Palette.h"
 #include "vsculpt/render/Shot.h"
 #include "vsculpt/render/StereoCamera.h"
+
+#include <glm/vec2.hpp>
 
 #include <memory>
 #include <optional>
@@ -21,9 +23,9 @@ struct GLFWwindow;
 namespace vsculpt::render {
 
 struct InputEvent {
-    enum class Kind { Key, MouseButton, Cursor, Scroll, Close };
+    enum class Kind { Key, MouseButton, Cursor, Scroll, Close, Char };
     Kind kind = Kind::Key;
-    int code = 0;  ///< GLFW key or mouse button
+    int code = 0;  ///< GLFW key or mouse button; Char: the typed Unicode code point
     bool pressed = false;
     double x = 0, y = 0;  ///< cursor position in pixels, or scroll offsets
 };
@@ -48,6 +50,20 @@ struct LensCorrection {
     double k1 = 0, k2 = 0;
     double redScale = 1, blueScale = 1;
     bool active() const { return k1 != 0 || k2 != 0 || redScale != 1 || blueScale != 1; }
+};
+
+/// The on-screen UI of one frame, rendered offscreen (UiLayer): a premultiplied-alpha RGBA
+/// texture the size of one eye's image (eyeImageSize), composited into each eye as a flat
+/// quad. In stereo each eye's copy is shifted by the disparity of a plane `depthMm` from the
+/// eyes (eyeShiftNdc, rounded to whole pixels so text stays sharp); 0 puts it on the
+/// zero-parallax plane (the same place in both eyes, screen depth).
+struct UiImage {
+    unsigned texture = 0;  ///< GL texture name in the viewer's context; not owned
+    int width = 0, height = 0;
+    double depthMm = 0;
+    /// The part of the texture the UI drew on (pixels, top-left origin, x1/y1 exclusive):
+    /// only that is composited (a full-window blend is a few ms on a software renderer).
+    int usedX0 = 0, usedY0 = 0, usedX1 = 0, usedY1 = 0;
 };
 
 struct FrameStats {
@@ -80,8 +96,25 @@ class Viewer {
     /// (object space) at `distanceMm`.
     FrameStats draw(const glm::dmat4& worldFromObject, const core::Aabb& frameBox,
                     const ToolDraw& tool, StereoMode mode, const StereoDisplay& display,
-                    const LensCorrection& lens = {}, const std::vector<PaletteItem>& palette = {},
-                    const std::vector<OverlayQuad>& overlay = {});
+                    const LensCorrection& lens = {}, const UiImage* ui = nullptr);
+    /// The size in framebuffer pixels of one eye's image in `mode` (the view area, or half of
+    /// it side by side): the size to render the UI at.
+    glm::ivec2 eyeImageSize(StereoMode mode) const;
+    /// Composites `ui` over the whole framebuffer as it is (mono, no shift): for windows whose
+    /// UI spans more than the 3D view (the sketch window).
+    void overlayUi(const UiImage& ui);
+    /// Where a window pixel falls on the UI texture of the last draw (pixels, top-left
+    /// origin, size `uiSize`): through the eye under the pointer side by side (undoing that
+    /// eye's shift), through the cyclopean eye in anaglyph (the shifts are symmetric), as is in
+    /// mono. For feeding the pointer to the UI.
+    glm::dvec2 pointerOnUi(double x, double y, StereoMode mode, glm::ivec2 uiSize) const;
+    /// A window pixel in framebuffer pixels (they differ on HiDPI screens): the pointer on a
+    /// UI composited with overlayUi.
+    glm::dvec2 windowToFramebuffer(double x, double y) const;
+    /// The display the last draw used (framing sets focal distance, aspect, clip planes) and
+    /// the horizontal UI shift it applied to each eye (NDC, after rounding to pixels).
+    const StereoDisplay& lastDisplay() const;
+    double lastUiShiftNdc(Eye eye) const;
     /// A tracked head (a headset): the next draws put the eyes at this worldFromHead (mm; head
     /// frame x right, y up, looking down -z) instead of framing the sculpture from the front.
     /// nullopt goes back to framing.
@@ -95,8 +128,7 @@ class Viewer {
     void setSurfaceLines(const std::vector<std::vector<core::Vec3>>& lines);
     /// The mono camera of the last draw (picking and drawing on the model).
     const EyeView& monoEye() const;
-    /// Where a window pixel falls in an eye's NDC (the eye under it in side-by-side mode),
-    /// for picking palette items.
+    /// Where a window pixel falls in an eye's NDC (the eye under it in side-by-side mode).
     void pixelToEyeNdc(double x, double y, StereoMode mode, double& ndcX, double& ndcY) const;
     /// Full screen on monitor `index` (0 = primary); false when there is no such monitor.
     bool goFullscreen(int index);
@@ -116,6 +148,7 @@ class Viewer {
 
   private:
     void windowToArea(double& x, int& w) const;
+    void compositeUi(const UiImage& ui, double shiftNdc);
     struct Impl;
     std::unique_ptr<Impl> mImpl;
 };

@@ -1,0 +1,456 @@
+// SPDX-License-Identifier: MIT
+// The windows' on-screen UI content (WindowUi.h): the shared parts (help, project menu,
+// dialogs, recent projects, preferences) and the sculpting window's palette and status.
+#include "vsculpt/app/WindowUi.h"
+
+#include "UiWidgets.h"
+#include "vsculpt/app/Rig.h"
+#include "vsculpt/core/WriteFileAtomically.h"
+
+#include <imgui.h>
+#include <imgui_stdlib.h>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>  // key codes (the UI's key map uses GLFW's)
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+
+namespace vsculpt::app {
+
+bool UiState::covers(double x, double y) const {
+    for (const auto& [name, r] : rects)
+        if (name.find(':') == std::string::npos && r.contains(x, y)) return true;
+    return false;
+}
+
+namespace ui {
+
+ImVec4 rgb(const std::array<uint8_t, 3>& c, float alpha) {
+    return ImVec4(c[0] / 255.f, c[1] / 255.f, c[2] / 255.f, alpha);
+}
+
+void applyStyle() {
+    ImGuiStyle& style = ImGui::GetStyle();
+    // Opaque panels: readable over any part of the sculpture, and the same colour in tests.
+    style.Colors[ImGuiCol_WindowBg] = rgb(kUiPanelRgb, 1);
+    style.Colors[ImGuiCol_PopupBg] = rgb(kUiPanelRgb, 1);
+    style.Colors[ImGuiCol_Text] = rgb(kUiTextRgb, 1);
+    style.WindowRounding = 0;
+}
+
+void rememberWindow(UiState& state, const std::string& name) {
+    const ImVec2 p = ImGui::GetWindowPos(), s = ImGui::GetWindowSize();
+    state.rects[name] = {p.x, p.y, p.x + s.x, p.y + s.y};
+}
+
+bool button(UiState& state, const std::string& label, bool current, const std::string& key) {
+    if (current) {
+        // The size, zoom or tool in use: yellow, as the old palette had it.
+        ImGui::PushStyleColor(ImGuiCol_Button, ImVec4(0.85f, 0.68f, 0.15f, 1));
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.08f, 0.08f, 0.08f, 1));
+    }
+    const bool clicked = ImGui::Button((label + "##" + (key.empty() ? label : key)).c_str());
+    if (current) ImGui::PopStyleColor(2);
+    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    state.rects["button:" + (key.empty() ? label : key)] = {a.x, a.y, b.x, b.y};
+    return clicked;
+}
+
+const ImGuiWindowFlags kPanel = ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoMove |
+                                ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                                ImGuiWindowFlags_NoSavedSettings |
+                                ImGuiWindowFlags_AlwaysAutoResize |
+                                ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav;
+
+void flow(const std::string& label, float maxWidth) {
+    const ImGuiStyle& style = ImGui::GetStyle();
+    const float w = ImGui::CalcTextSize(label.c_str(), nullptr, true).x + 2 * style.FramePadding.x;
+    const float end = ImGui::GetItemRectMax().x - ImGui::GetWindowPos().x;
+    if (end + style.ItemSpacing.x + w <= maxWidth - style.WindowPadding.x) ImGui::SameLine();
+}
+
+std::string keyOf(const std::map<std::string, std::string>* bindings, const std::string& action) {
+    if (!bindings) return "";
+    auto it = bindings->find(action);
+    return it == bindings->end() ? "" : " (" + it->second + ")";
+}
+
+void projectButtons(UiState& state, const std::map<std::string, std::string>* bindings,
+                    std::vector<UiAction>& actions) {
+    if (button(state, "save" + keyOf(bindings, "save"), false, "save")) actions.push_back({"save"});
+    ImGui::SameLine();
+    if (button(state, "save as...", false, "save as..."))
+        actions.push_back({"open_save_as_dialog"});
+    ImGui::SameLine();
+    if (button(state, "export...", false, "export...")) actions.push_back({"open_export_dialog"});
+    if (button(state, "recent...", false, "recent...")) actions.push_back({"open_recent"});
+    ImGui::SameLine();
+    if (button(state, "new project" + keyOf(bindings, "new_project"), false, "new project"))
+        actions.push_back({"new_project"});
+    ImGui::SameLine();
+    if (button(state, "preferences...", false, "preferences...")) {
+        state.preferences = !state.preferences;
+        state.preferencesNote.clear();
+    }
+    ImGui::SameLine();
+    if (button(state, "help" + keyOf(bindings, "help"), state.help, "help"))
+        actions.push_back({"help"});
+}
+
+void helpOverlay(UiState& state, const std::map<std::string, std::string>* bindings, bool sketch,
+                 int width, int height) {
+    if (!state.help || !bindings) return;
+    ImGui::SetNextWindowPos(ImVec2(width * 0.5f, height * 0.5f), ImGuiCond_Always,
+                            ImVec2(0.5f, 0.5f));
+    ImGui::SetNextWindowSizeConstraints(ImVec2(0, 0), ImVec2(width * 0.9f, height * 0.85f));
+    bool open = true;
+    if (ImGui::Begin("Keys and mouse", &open,
+                     ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
+                         ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_AlwaysAutoResize)) {
+        rememberWindow(state, "help");
+        const auto lines = helpLines(*bindings, sketch);
+        // Two pairs of columns side by side: the sketch window has about forty bindings.
+        if (ImGui::BeginTable("bindings", 4, ImGuiTableFlags_SizingFixedFit)) {
+            const size_t half = (lines.size() + 1) / 2;
+            for (size_t i = 0; i < half; ++i) {
+                ImGui::TableNextRow();
+                for (size_t j : {i, i + half}) {
+                    ImGui::TableNextColumn();
+                    if (j < lines.size()) ImGui::TextUnformatted(lines[j].first.c_str());
+                    ImGui::TableNextColumn();
+                    if (j < lines.size())
+                        ImGui::TextColored(ImVec4(1, 0.85f, 0.3f, 1), "%s   ",
+                                           lines[j].second.c_str());
+                }
+            }
+            ImGui::EndTable();
+        }
+    }
+    ImGui::End();
+    if (!open) state.help = false;
+}
+
+void dialog(UiState& state, std::vector<UiAction>& actions) {
+    if (state.dialogOpening) {
+        ImGui::OpenPopup("##project-dialog");
+        state.dialogOpening = false;
+        state.rects.erase("dialog");
+    }
+    const bool exportDialog = state.dialog == UiState::Dialog::Export;
+    if (!ImGui::BeginPopupModal("##project-dialog", nullptr,
+                                ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoTitleBar |
+                                    ImGuiWindowFlags_NoSavedSettings))
+        return;
+    if (state.dialog == UiState::Dialog::None) {  // done (or cancelled) last frame
+        ImGui::CloseCurrentPopup();
+        ImGui::EndPopup();
+        return;
+    }
+    rememberWindow(state, "dialog");
+    ImGui::TextUnformatted(
+        exportDialog ? "Export the sculpture to a file (.glb .gltf .obj .stl .ply .vdb .dxf)"
+                     : "Save the project as a new folder (new or empty) and continue there");
+    // The field has the keyboard with its text selected when the dialog opens and after an
+    // error: typing replaces the proposal, arrows and End edit it.
+    if (ImGui::IsWindowAppearing() || state.refocusField) ImGui::SetKeyboardFocusHere();
+    state.refocusField = false;
+    ImGui::SetNextItemWidth(520);
+    const bool enter =
+        ImGui::InputText("##path", &state.pathField,
+                         ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
+    {
+        const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+        state.rects["field:path"] = {a.x, a.y, b.x, b.y};
+    }
+    if (exportDialog) {
+        ImGui::SetNextItemWidth(140);
+        ImGui::Combo("up axis", &state.exportUp, "format default\0+Y up\0+Z up\0");
+        ImGui::SameLine();
+        ImGui::SetNextItemWidth(140);
+        ImGui::Combo("units", &state.exportUnits, "format default\0mm\0cm\0m\0");
+    }
+    if (!state.dialogError.empty()) {
+        ImGui::PushTextWrapPos(560);
+        ImGui::TextColored(ImVec4(1, 0.4f, 0.35f, 1), "%s", state.dialogError.c_str());
+        ImGui::PopTextWrapPos();
+    }
+    const bool ok = button(state, exportDialog ? "export" : "save as", false, "dialog ok");
+    ImGui::SameLine();
+    const bool cancel =
+        button(state, "cancel", false, "dialog cancel") || ImGui::IsKeyPressed(GLFW_KEY_ESCAPE);
+    if (ok || enter) {
+        UiAction a{exportDialog ? "export" : "save_as", state.pathField, {}};
+        if (state.exportUp > 0)
+            a.exportOptions.up = state.exportUp == 1 ? core::UpAxis::Y : core::UpAxis::Z;
+        if (state.exportUnits > 0)
+            a.exportOptions.units = state.exportUnits == 1   ? core::LengthUnit::Millimetre
+                                    : state.exportUnits == 2 ? core::LengthUnit::Centimetre
+                                                             : core::LengthUnit::Metre;
+        actions.push_back(a);
+    } else if (cancel) {
+        state.dialog = UiState::Dialog::None;
+        state.dialogError.clear();
+        ImGui::CloseCurrentPopup();
+    }
+    ImGui::EndPopup();
+}
+
+void recentPanel(UiState& state, std::vector<UiAction>& actions, int width) {
+    if (!state.recent) return;
+    ImGui::SetNextWindowPos(ImVec2(width - 8.f, 8), ImGuiCond_Always, ImVec2(1, 0));
+    bool open = true;
+    if (ImGui::Begin("Recent projects", &open,
+                     ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
+                         ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_AlwaysAutoResize)) {
+        rememberWindow(state, "recent");
+        if (state.recentList.empty()) ImGui::TextUnformatted("no recent projects");
+        for (size_t i = 0; i < state.recentList.size(); ++i)
+            if (button(state, state.recentList[i].string(), false, "recent " + std::to_string(i)))
+                actions.push_back({"open_project", state.recentList[i], {}});
+    }
+    ImGui::End();
+    if (!open) state.recent = false;
+}
+
+void preferencesPanel(UiState& state, core::SculptConfig& cfg, std::vector<UiAction>& actions,
+                      int width, int height) {
+    if (!state.preferences) return;
+    ImGui::SetNextWindowPos(ImVec2(width - 8.f, height * 0.5f), ImGuiCond_Always, ImVec2(1, 0.5f));
+    bool open = true;
+    if (ImGui::Begin("Preferences", &open,
+                     ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
+                         ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_AlwaysAutoResize)) {
+        rememberWindow(state, "preferences");
+        bool changed = false;
+        int stereo = cfg.render.stereo == "sbs" ? 1 : cfg.render.stereo == "anaglyph" ? 2 : 0;
+        ImGui::SetNextItemWidth(200);
+        if (ImGui::Combo("stereo", &stereo, "mono\0side by side\0anaglyph\0")) {
+            cfg.render.stereo = stereo == 1 ? "sbs" : stereo == 2 ? "anaglyph" : "mono";
+            changed = true;
+        }
+        auto slider = [&](const char* label, double& value, float lo, float hi, const char* fmt) {
+            float v = float(value);
+            ImGui::SetNextItemWidth(200);
+            if (ImGui::SliderFloat(label, &v, lo, hi, fmt)) {
+                value = v;
+                changed = true;
+            }
+        };
+        slider("IPD (mm)", cfg.render.ipdMm, 0, 80, "%.1f");
+        slider("UI depth (mm, 0: screen)", cfg.render.uiDepthMm, 0, 2000, "%.0f");
+        slider("UI scale", cfg.render.uiScale, 0.75f, 3, "%.2f");
+        slider("rotate (rad per pixel)", cfg.interaction.rotateRadPerPixel, 0.001f, 0.05f, "%.3f");
+        slider("scroll depth (x diameter)", cfg.interaction.depthStepOverDiameter, 0.05f, 1,
+               "%.2f");
+        if (changed) actions.push_back({"preferences_changed"});
+        ImGui::Separator();
+        const std::filesystem::path target = core::userConfigPath();
+        std::error_code ec;
+        ImGui::PushTextWrapPos(420);
+        if (target.empty())
+            ImGui::TextUnformatted("no user config folder ($XDG_CONFIG_HOME and $HOME unset)");
+        else
+            ImGui::Text("Save writes %s%s", target.c_str(),
+                        std::filesystem::exists(target, ec)
+                            ? " (replacing that file: its comments are not kept)"
+                            : "");
+        if (!state.preferencesNote.empty()) ImGui::TextUnformatted(state.preferencesNote.c_str());
+        ImGui::PopTextWrapPos();
+        if (!target.empty() && button(state, "save preferences", false, "save preferences"))
+            actions.push_back({"save_preferences"});
+    }
+    ImGui::End();
+    if (!open) state.preferences = false;
+}
+
+void sharedPanels(UiState& state, const std::map<std::string, std::string>* bindings, bool sketch,
+                  core::SculptConfig& cfg, std::vector<UiAction>& actions, int width, int height) {
+    helpOverlay(state, bindings, sketch, width, height);
+    recentPanel(state, actions, width);
+    preferencesPanel(state, cfg, actions, width, height);
+    dialog(state, actions);
+}
+
+void beginUi(UiState& state) {
+    applyStyle();
+    // Rectangles are this frame's: panels closed since the last one are gone.
+    state.rects.clear();
+}
+
+}  // namespace ui
+
+std::vector<std::pair<std::string, std::string>> helpLines(
+    const std::map<std::string, std::string>& bindings, bool sketch) {
+    std::vector<std::pair<std::string, std::string>> lines;
+    for (const auto& [action, key] : bindings)
+        lines.emplace_back(action, key);
+    if (sketch) {
+        lines.emplace_back("draw (canvas) / draw on the model", "left button");
+        lines.emplace_back("pan the canvas / turn the sculpture", "right drag");
+        lines.emplace_back("zoom the canvas", "scroll wheel");
+    } else {
+        lines.emplace_back("sculpt (add / carve while held)", "left button");
+        lines.emplace_back("turn the sculpture", "right drag");
+        lines.emplace_back("move the sculpture", "middle drag");
+        lines.emplace_back("tool depth in / out", "scroll wheel");
+    }
+    return lines;
+}
+
+std::vector<UiAction> sculptUi(UiState& state, const SculptUiView& v, core::SculptConfig& cfg,
+                               int width, int height) {
+    using ui::button;
+    ui::beginUi(state);
+    std::vector<UiAction> actions;
+    const char* toolNames[3] = {"add", "carve", "select"};
+    const int tool = int(v.tool);
+    // The status panel, top left.
+    const float left = 8 + v.marginPx;
+    ImGui::SetNextWindowPos(ImVec2(left, 8), ImGuiCond_Always);
+    if (ImGui::Begin("##status", nullptr, ui::kPanel)) {
+        ui::rememberWindow(state, "status");
+        const ImVec4 toolColour[3] = {ImVec4(0.45f, 1.0f, 0.5f, 1), ImVec4(1.0f, 0.4f, 0.35f, 1),
+                                      ImVec4(0.45f, 0.65f, 1.0f, 1)};
+        ImGui::Text("tool");
+        ImGui::SameLine(90);
+        ImGui::TextColored(toolColour[tool], "%s", toolNames[tool]);
+        ImGui::Text("size");
+        ImGui::SameLine(90);
+        ImGui::Text("%d  (%.1f mm)", v.size, v.sizeMm);
+        ImGui::Text("zoom");
+        ImGui::SameLine(90);
+        ImGui::Text("%d of 5", v.zoom);
+        ImGui::Text("skeletons");
+        ImGui::SameLine(90);
+        ImGui::Text("%zu", v.skeletons);
+        ImGui::Text("frame");
+        ImGui::SameLine(90);
+        ImGui::Text("%.1f ms", v.frameMs);
+        ImGui::Text("project");
+        ImGui::SameLine(90);
+        ImGui::TextUnformatted(v.project.c_str());
+        if (!v.message.empty()) {
+            ImGui::PushTextWrapPos(420);
+            ImGui::TextColored(ImVec4(1, 0.85f, 0.4f, 1), "%s", v.message.c_str());
+            ImGui::PopTextWrapPos();
+        }
+        ui::projectButtons(state, v.bindings, actions);
+    }
+    ImGui::End();
+
+    // The palette, along the bottom edge.
+    ImGui::SetNextWindowPos(ImVec2(left, height - 8.f), ImGuiCond_Always, ImVec2(0, 1));
+    if (ImGui::Begin("##palette", nullptr, ui::kPanel)) {
+        ui::rememberWindow(state, "palette");
+        ImGui::Text("tool");
+        for (int t = 0; t < 3; ++t) {
+            ImGui::SameLine(t == 0 ? 50 : 0);
+            if (button(state, toolNames[t], t == tool, ""))
+                actions.push_back({std::string("tool_") + toolNames[t]});
+        }
+        ImGui::SameLine();
+        ImGui::TextUnformatted("   ");
+        ImGui::SameLine();
+        if (button(state, "undo" + ui::keyOf(v.bindings, "undo"), false, "undo"))
+            actions.push_back({"undo"});
+        ImGui::SameLine();
+        if (button(state, "redo" + ui::keyOf(v.bindings, "redo"), false, "redo"))
+            actions.push_back({"redo"});
+        ImGui::Text("size");
+        for (size_t i = 0; i < v.offeredSizes.size(); ++i) {
+            const auto& [level, mm] = v.offeredSizes[i];
+            ImGui::SameLine(i == 0 ? 50 : 0);
+            char label[48];
+            std::snprintf(label, sizeof label, "%d: %.1f mm", level, mm);
+            if (button(state, label, level == v.size, "size " + std::to_string(level)))
+                actions.push_back({"size_" + std::to_string(level)});
+        }
+        ImGui::Text("zoom");
+        for (int z = 1; z <= 5; ++z) {
+            ImGui::SameLine(z == 1 ? 50 : 0);
+            if (button(state, std::to_string(z) + (z == 1 ? " overview" : ""), z == v.zoom,
+                       "zoom " + std::to_string(z)))
+                actions.push_back({"zoom_" + std::to_string(z)});
+        }
+    }
+    ImGui::End();
+    // The shared panels sit at the right edge: the same margin there.
+    ui::sharedPanels(state, v.bindings, false, cfg, actions, width - int(v.marginPx), height);
+    return actions;
+}
+
+std::filesystem::path savePreferences(const core::SculptConfig& cfg) {
+    const std::filesystem::path path = core::userConfigPath();
+    if (path.empty())
+        throw std::runtime_error("no user config folder: $XDG_CONFIG_HOME and $HOME are unset");
+    std::filesystem::create_directories(path.parent_path());
+    core::writeFileAtomically(path, core::configToJson(cfg) + "\n", true);
+    return path;
+}
+
+bool applySharedUiAction(const UiAction& a, Rig& rig, UiState& state, const core::SculptConfig& cfg,
+                         std::string& message, bool& switched) {
+    const std::string& n = a.name;
+    if (n == "open_save_as_dialog" || n == "open_export_dialog") {
+        state.dialog =
+            n == "open_export_dialog" ? UiState::Dialog::Export : UiState::Dialog::SaveAs;
+        state.dialogOpening = true;
+        state.dialogError.clear();
+        state.pathField = (state.dialog == UiState::Dialog::Export ? rig.defaultExportPath()
+                                                                   : newProjectDir("projects"))
+                              .string();
+        return true;
+    }
+    if (n == "open_recent") {
+        state.recent = !state.recent;
+        state.recentList = recentProjects();
+        return true;
+    }
+    const bool fromDialog = n == "save_as" || n == "export";
+    if (n != "save" && n != "new_project" && n != "open_project" && n != "save_preferences" &&
+        !fromDialog)
+        return false;
+    try {
+        if (fromDialog && a.path.empty()) throw std::invalid_argument("type a path first");
+        if (n == "save") {
+            message = rig.save();
+        } else if (n == "save_as") {
+            message = rig.saveAs(a.path);
+            switched = true;
+        } else if (n == "export") {
+            message = rig.exportTo(a.path, a.exportOptions);
+        } else if (n == "new_project") {
+            message = rig.newProject();
+            switched = true;
+        } else if (n == "open_project") {
+            message = rig.openProject(a.path);
+            switched = true;
+            state.recent = false;
+        } else {
+            const std::filesystem::path p = savePreferences(cfg);
+            message = "preferences saved to " + p.string();
+            state.preferencesNote = message;
+        }
+        if (fromDialog) {
+            state.dialog = UiState::Dialog::None;
+            state.dialogError.clear();
+        }
+    } catch (const std::logic_error& e) {
+        if (!dynamic_cast<const std::invalid_argument*>(&e) &&
+            !dynamic_cast<const std::out_of_range*>(&e))
+            throw;  // a broken invariant: not a refused request
+        message = e.what();
+        if (fromDialog) state.dialogError = message;
+        state.refocusField = fromDialog;
+    } catch (const std::exception& e) {
+        message = e.what();
+        if (fromDialog) state.dialogError = message;
+        state.refocusField = fromDialog;
+        if (n == "save_preferences") state.preferencesNote = message;
+    }
+    return true;
+}
+
+}  // namespace vsculpt::app

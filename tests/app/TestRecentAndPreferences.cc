@@ -1,0 +1,168 @@
+// SPDX-License-Identifier: MIT
+// The UI's files: the recent-projects list (order, duplicates, pruning of folders that are
+// gone) and preferences saved as the user's config (atomically, read back by loadConfig);
+// the help overlay lists every binding.
+#include "vsculpt/app/Rig.h"
+#include "vsculpt/app/WindowUi.h"
+#include "vsculpt/core/Config.h"
+#include "vsculpt/core/Project.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+
+using namespace vsculpt;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Points an XDG variable at a private folder for one test, and puts it back.
+class ScopedEnv {
+  public:
+    ScopedEnv(const char* name, const fs::path& value) : mName(name) {
+        if (const char* v = std::getenv(name)) mOld = v;
+        ::setenv(name, value.c_str(), 1);
+    }
+    ~ScopedEnv() {
+        if (mOld)
+            ::setenv(mName, mOld->c_str(), 1);
+        else
+            ::unsetenv(mName);
+    }
+
+  private:
+    const char* mName;
+    std::optional<std::string> mOld;
+};
+
+fs::path freshDir(const std::string& name) {
+    const fs::path d = fs::temp_directory_path() / (name + "-" + std::to_string(::getpid()));
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+TEST(RecentProjects, MostRecentFirstWithoutDuplicatesAndCut) {
+    using P = std::vector<fs::path>;
+    EXPECT_EQ(app::withRecentProject({}, "/a"), P{"/a"});
+    EXPECT_EQ(app::withRecentProject({"/a", "/b", "/c"}, "/c"), (P{"/c", "/a", "/b"}));
+    EXPECT_EQ(app::withRecentProject({"/a", "/b"}, "/d"), (P{"/d", "/a", "/b"}));
+    EXPECT_EQ(app::withRecentProject({"/a", "/b", "/c"}, "/d", 3), (P{"/d", "/a", "/b"}));
+}
+
+TEST(RecentProjects, RememberedInOrderAndOnlyExistingOnesOffered) {
+    const fs::path root = freshDir("vsculpt-recent");
+    ScopedEnv data("XDG_DATA_HOME", root / "data");
+    std::vector<fs::path> projects;
+    for (const char* name : {"a", "b", "c"}) {
+        const fs::path p = root / name;
+        fs::create_directories(p);
+        std::ofstream(core::snapshotPath(p)) << "x";  // a folder holding a project
+        projects.push_back(p);
+    }
+    std::ostringstream log;
+    for (int i : {0, 1, 2, 0})
+        app::rememberLastProject(projects[size_t(i)], log);
+    EXPECT_EQ(log.str(), "");
+    EXPECT_EQ(app::recentProjects(),
+              (std::vector<fs::path>{projects[0], projects[2], projects[1]}));
+    EXPECT_EQ(app::lastProject(), projects[0]);
+    fs::remove_all(projects[2]);  // gone: no longer offered
+    EXPECT_EQ(app::recentProjects(), (std::vector<fs::path>{projects[0], projects[1]}));
+    fs::remove_all(root);
+}
+
+// Opening a recent project switches the rig's studio only once the new one is open and
+// locked: a folder without a project, or one open elsewhere, leaves the session as it was.
+TEST(RecentProjects, OpeningOneSwitchesSafely) {
+    const fs::path root = freshDir("vsculpt-open");
+    ScopedEnv data("XDG_DATA_HOME", root / "data");
+    core::SculptConfig cfg;
+    cfg.polygonizer.gridN = 16;
+    auto options = [&](const fs::path& dir) {
+        app::RigOptions o;
+        o.project = app::ProjectChoice::Given;
+        o.projectDir = dir;
+        return o;
+    };
+    std::ostringstream log;
+    { app::Rig make(cfg, options(root / "b"), log); }  // a project to open later
+    app::Rig rig(cfg, options(root / "a"), log);
+    app::Rig holder(cfg, options(root / "c"), log);  // keeps "c" locked
+    EXPECT_THROW(rig.openProject(root / "nothing-here"), core::ProjectError);
+    EXPECT_THROW(rig.openProject(root / "c"), std::exception);
+    EXPECT_EQ(rig.session().projectDir(), root / "a");
+    const std::string said = rig.openProject(root / "b");
+    EXPECT_NE(said.find("opened " + (root / "b").string()), std::string::npos) << said;
+    EXPECT_EQ(rig.session().projectDir(), root / "b");
+    EXPECT_EQ(app::recentProjects().front(), root / "b");
+    // "a" was saved and unlocked: another rig can open it now.
+    EXPECT_NO_THROW(app::Rig(cfg, options(root / "a"), log));
+}
+
+TEST(Preferences, SavedAtomicallyAsTheUserConfigAndReadBack) {
+    const fs::path root = freshDir("vsculpt-prefs");
+    ScopedEnv config("XDG_CONFIG_HOME", root);
+    core::SculptConfig cfg;
+    cfg.render.stereo = "anaglyph";
+    cfg.render.ipdMm = 58.5;
+    cfg.render.uiScale = 1.5;
+    cfg.render.uiDepthMm = 450;
+    cfg.interaction.rotateRadPerPixel = 0.02;
+    const fs::path written = app::savePreferences(cfg);
+    EXPECT_EQ(written, root / "vsculpt" / "sculpt.json");
+    EXPECT_EQ(core::defaultConfigPath(), written);  // what the next start reads
+    const core::SculptConfig back = core::loadConfig(written);
+    EXPECT_EQ(back.render.stereo, "anaglyph");
+    EXPECT_EQ(back.render.ipdMm, 58.5);
+    EXPECT_EQ(back.render.uiScale, 1.5);
+    EXPECT_EQ(back.render.uiDepthMm, 450);
+    EXPECT_EQ(back.interaction.rotateRadPerPixel, 0.02);
+    EXPECT_EQ(back.interaction.bindings, cfg.interaction.bindings);
+    // Saving again replaces the file through a temporary: nothing else is left in the folder.
+    cfg.render.ipdMm = 61;
+    app::savePreferences(cfg);
+    EXPECT_EQ(core::loadConfig(written).render.ipdMm, 61);
+    size_t files = 0;
+    for (const auto& e : fs::directory_iterator(root / "vsculpt")) {
+        (void)e;
+        ++files;
+    }
+    EXPECT_EQ(files, 1u);
+    fs::remove_all(root);
+}
+
+TEST(Preferences, UiKeysAreValidated) {
+    EXPECT_THROW(core::parseConfig(R"({"render": {"ui_scale": 9}})", "t.json"), core::ConfigError);
+    EXPECT_THROW(core::parseConfig(R"({"render": {"ui_depth_mm": -1}})", "t.json"),
+                 core::ConfigError);
+    EXPECT_EQ(core::parseConfig(R"({"render": {"ui_depth_mm": 300}})", "t.json").render.uiDepthMm,
+              300);
+}
+
+TEST(HelpOverlay, ListsEveryBindingAndTheMouse) {
+    const core::SculptConfig cfg;
+    for (bool sketch : {false, true}) {
+        const auto& bindings = sketch ? cfg.interaction.sketchBindings : cfg.interaction.bindings;
+        const auto lines = app::helpLines(bindings, sketch);
+        for (const auto& [action, key] : bindings) {
+            const bool listed =
+                std::find(lines.begin(), lines.end(), std::make_pair(action, key)) != lines.end();
+            EXPECT_TRUE(listed) << action;
+        }
+        EXPECT_GT(lines.size(), bindings.size());  // and the mouse
+        bool leftButton = false;
+        for (const auto& l : lines)
+            leftButton |= l.second == "left button";
+        EXPECT_TRUE(leftButton);
+    }
+    // The help key is bound in both windows, and not to a key the sketch window uses.
+    EXPECT_EQ(cfg.interaction.bindings.at("help"), "F1");
+    EXPECT_EQ(cfg.interaction.sketchBindings.at("help"), "F4");
+}
+
+}  // namespace

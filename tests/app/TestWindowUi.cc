@@ -1,0 +1,320 @@
+// SPDX-License-Identifier: MIT
+// The windows' on-screen UI (Dear ImGui) under Xvfb + Mesa: the panels are on screen with
+// their colours and text, the help overlay comes with its key, side by side the UI is in both
+// eyes at its disparity, clicks on the UI change the session without sculpting, and typing in
+// the export dialog runs no key bindings.
+#include "vsculpt/app/SketchWindow.h"
+#include "vsculpt/app/Window.h"
+#include "vsculpt/core/WriteFileAtomically.h"
+#include "vsculpt/render/Shot.h"
+
+#include <gtest/gtest.h>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>  // key and button codes
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+using namespace vsculpt;
+using render::InputEvent;
+namespace fs = std::filesystem;
+
+namespace {
+
+bool near(const uint8_t* p, const std::array<uint8_t, 3>& c, int tol) {
+    return std::abs(p[0] - c[0]) <= tol && std::abs(p[1] - c[1]) <= tol &&
+           std::abs(p[2] - c[2]) <= tol;
+}
+
+struct Census {
+    size_t panel = 0, text = 0, total = 0;
+};
+
+// Panel-background and text-coloured pixels inside `r` (offset by dx), in `img`.
+Census census(const render::Image& img, const app::UiRect& r, int dx = 0) {
+    Census c;
+    for (int y = int(r.y0); y < int(r.y1); ++y)
+        for (int x = int(r.x0) + dx; x < int(r.x1) + dx; ++x) {
+            if (x < 0 || y < 0 || x >= img.width || y >= img.height) continue;
+            const uint8_t* p = img.pixel(x, y);
+            c.panel += near(p, app::kUiPanelRgb, 2);
+            c.text += near(p, app::kUiTextRgb, 12);
+            ++c.total;
+        }
+    return c;
+}
+
+app::WindowOptions scratchWindow(int frames) {
+    app::WindowOptions o;
+    o.noProject = true;
+    o.devices = false;
+    o.hidden = true;
+    o.width = 960;
+    o.height = 640;
+    o.frames = frames;
+    return o;
+}
+
+InputEvent key(int code, bool pressed) {
+    return {InputEvent::Kind::Key, code, pressed, 0, 0};
+}
+InputEvent character(char c) {
+    return {InputEvent::Kind::Char, int(c), true, 0, 0};
+}
+InputEvent cursor(double x, double y) {
+    return {InputEvent::Kind::Cursor, 0, false, x, y};
+}
+InputEvent leftButton(bool pressed) {
+    return {InputEvent::Kind::MouseButton, GLFW_MOUSE_BUTTON_LEFT, pressed, 0, 0};
+}
+
+// A click on the centre of the UI's rectangle `name` as it was last drawn: the pointer moves
+// there at `at`, the button goes down a frame later and up the frame after.
+void clickOn(const std::string& name, size_t at, size_t frame, const app::UiState& ui,
+             std::vector<InputEvent>& inject, app::UiRect& where) {
+    if (frame == at) {
+        auto it = ui.rects.find(name);
+        ASSERT_NE(it, ui.rects.end()) << name << " is not on screen";
+        where = it->second;
+        inject.push_back(cursor(where.cx(), where.cy()));
+    }
+    if (frame == at + 1) inject.push_back(leftButton(true));
+    if (frame == at + 2) inject.push_back(leftButton(false));
+}
+
+TEST(WindowUi, PanelsAreOnScreenAndHelpComesWithItsKey) {
+    app::WindowOptions o = scratchWindow(10);
+    render::Image img;
+    app::WindowOptions::Report report;
+    o.lastFrame = &img;
+    o.report = &report;
+    bool helpBeforeKey = true;
+    o.onFrame = [&](size_t frame, const app::UiState& ui, std::vector<InputEvent>& inject) {
+        if (frame == 4) helpBeforeKey = ui.rects.count("help") > 0;
+        if (frame == 4) inject.push_back(key(GLFW_KEY_F1, true));  // help (default binding)
+        if (frame == 5) inject.push_back(key(GLFW_KEY_F1, false));
+    };
+    std::ostringstream out, err;
+    ASSERT_EQ(app::runWindow(o, out, err), 0) << err.str();
+    EXPECT_FALSE(helpBeforeKey);
+    ASSERT_EQ(img.width, 960);
+    for (const char* name : {"status", "palette", "help"}) {
+        ASSERT_TRUE(report.ui.rects.count(name)) << name;
+        const Census c = census(img, report.ui.rects.at(name));
+        // Mostly panel background, with text on it (labels, numbers).
+        EXPECT_GT(c.panel, c.total / 3) << name;
+        EXPECT_GT(c.text, 150u) << name;
+    }
+    // The status panel at the top left, the palette along the bottom, help in the middle.
+    EXPECT_LT(report.ui.rects.at("status").y1, 320);
+    EXPECT_GT(report.ui.rects.at("palette").y0, 320);
+    EXPECT_TRUE(report.ui.rects.at("help").contains(480, 320));
+    // Every size offered at zoom 1, each zoom level, the tools and undo/redo are buttons.
+    for (const char* b : {"button:size 7", "button:size 6", "button:size 5", "button:zoom 1",
+                          "button:zoom 5", "button:add", "button:carve", "button:select",
+                          "button:undo", "button:redo", "button:export...", "button:help"})
+        EXPECT_TRUE(report.ui.rects.count(b)) << b;
+    // Outside the panels the scene is untouched: the window's middle-left is background.
+    const uint8_t* bg = img.pixel(60, 320);
+    EXPECT_TRUE(
+        near(bg, {render::kBackground[0], render::kBackground[1], render::kBackground[2]}, 3));
+}
+
+TEST(WindowUi, SideBySideShowsTheUiInBothEyesAtItsDisparity) {
+    const std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("vsculpt-ui-sbs-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    auto run = [&](double depthMm, render::Image& img, app::WindowOptions::Report& report) {
+        const std::filesystem::path config = dir / "c.json";
+        core::writeFileAtomically(
+            config, "{\"render\": {\"ui_depth_mm\": " + std::to_string(depthMm) + "}}", false);
+        app::WindowOptions o = scratchWindow(4);
+        o.configPath = config.string();
+        o.stereo = "sbs";
+        o.lastFrame = &img;
+        o.report = &report;
+        std::ostringstream out, err;
+        ASSERT_EQ(app::runWindow(o, out, err), 0) << err.str();
+    };
+    render::Image flat, deep;
+    app::WindowOptions::Report flatReport, deepReport;
+    run(0, flat, flatReport);
+    // A little nearer than the sculpture's centre (the zero-parallax plane): crossed
+    // disparity of a few pixels.
+    const double depth = 0.93 * flatReport.display.focalDistanceMm;
+    run(depth, deep, deepReport);
+    const int eyeW = 480;
+    const int left = int(
+        std::lround(render::eyeShiftNdc(deepReport.display, depth, render::Eye::Left) * eyeW / 2));
+    const int right = int(
+        std::lround(render::eyeShiftNdc(deepReport.display, depth, render::Eye::Right) * eyeW / 2));
+    ASSERT_GT(left, 3);
+    EXPECT_EQ(right, -left);
+    EXPECT_NEAR(deepReport.uiShiftNdc[0], 2.0 * left / eyeW, 1e-12);
+    for (const char* name : {"status", "palette"}) {
+        const app::UiRect r = flatReport.ui.rects.at(name);
+        EXPECT_LT(r.x1, eyeW) << name;  // laid out in one eye's image
+        // On the plane: the same panel in both halves.
+        for (int dx : {0, eyeW}) {
+            const Census c = census(flat, r, dx);
+            EXPECT_GT(c.panel, c.total / 3) << name << " " << dx;
+            EXPECT_GT(c.text, 100u) << name << " " << dx;
+        }
+        // Nearer: each eye's copy moved by its shift (the panels' right edges are inside both
+        // eyes' images; the left edges are near the image's edge).
+        const app::UiRect d = deepReport.ui.rects.at(name);
+        const int row = int(d.cy());
+        auto lastPanel = [&](int x0, int x1) {
+            for (int x = x1 - 1; x >= x0; --x)
+                if (near(deep.pixel(x, row), app::kUiPanelRgb, 2)) return x;
+            return -1;
+        };
+        const int l = lastPanel(0, eyeW), r2 = lastPanel(eyeW, 2 * eyeW);
+        ASSERT_GE(l, 0);
+        ASSERT_GE(r2, 0);
+        EXPECT_EQ((r2 - eyeW) - l, right - left) << name;
+        EXPECT_NEAR(l - d.x1, left, 2) << name;  // its border is a pixel or so
+        const Census cl = census(deep, d, left), cr = census(deep, d, eyeW + right);
+        EXPECT_GT(cl.panel, cl.total / 3) << name;
+        EXPECT_GT(cr.panel, cr.total / 3) << name;
+    }
+    std::filesystem::remove_all(dir);
+}
+
+TEST(WindowUi, ClicksOnTheUiChangeSizeToolAndZoomWithoutSculpting) {
+    // The control: the same click on the sculpture sculpts (so the check below can fail).
+    {
+        app::WindowOptions o = scratchWindow(8);
+        app::WindowOptions::Report report;
+        o.report = &report;
+        o.onFrame = [&](size_t frame, const app::UiState&, std::vector<InputEvent>& inject) {
+            if (frame == 2) inject.push_back(cursor(480, 320));
+            if (frame == 3) inject.push_back(leftButton(true));
+            if (frame == 4) inject.push_back(cursor(490, 322));
+            if (frame == 5) inject.push_back(leftButton(false));
+        };
+        std::ostringstream out, err;
+        ASSERT_EQ(app::runWindow(o, out, err), 0) << err.str();
+        EXPECT_GT(report.skeletons, 1u);
+        EXPECT_EQ(report.steps, 1u);
+    }
+    app::WindowOptions o = scratchWindow(14);
+    app::WindowOptions::Report report;
+    o.report = &report;
+    app::UiRect size5, carve;
+    o.onFrame = [&](size_t frame, const app::UiState& ui, std::vector<InputEvent>& inject) {
+        clickOn("button:size 5", 2, frame, ui, inject, size5);
+        clickOn("button:carve", 6, frame, ui, inject, carve);
+    };
+    std::ostringstream out, err;
+    ASSERT_EQ(app::runWindow(o, out, err), 0) << err.str();
+    EXPECT_EQ(report.size, 5);
+    EXPECT_EQ(report.tool, studio::ToolKind::Carve);
+    EXPECT_EQ(report.skeletons, 1u);  // the initial sphere only: nothing sculpted
+    EXPECT_EQ(report.steps, 0u);
+
+    app::WindowOptions z = scratchWindow(8);
+    app::WindowOptions::Report zoomed;
+    z.report = &zoomed;
+    app::UiRect zoom2;
+    z.onFrame = [&](size_t frame, const app::UiState& ui, std::vector<InputEvent>& inject) {
+        clickOn("button:zoom 2", 2, frame, ui, inject, zoom2);
+    };
+    ASSERT_EQ(app::runWindow(z, out, err), 0) << err.str();
+    EXPECT_EQ(zoomed.zoom, 2);
+    EXPECT_EQ(zoomed.skeletons, 1u);
+    EXPECT_EQ(zoomed.steps, 0u);
+}
+
+TEST(WindowUi, TypingInTheExportDialogRunsNoBindingsAndErrorsStayInTheDialog) {
+    const fs::path dir = std::filesystem::temp_directory_path() /
+                         ("vsculpt-ui-export-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    const std::string good = (dir / "typed.stl").string();
+    app::WindowOptions o = scratchWindow(30);
+    app::WindowOptions::Report report;
+    o.report = &report;
+    app::UiRect exportButton;
+    std::string proposed, fieldAfterTyping, errorAfterBadPath;
+    bool dialogAfterBadPath = false;
+    o.onFrame = [&](size_t frame, const app::UiState& ui, std::vector<InputEvent>& inject) {
+        clickOn("button:export...", 2, frame, ui, inject, exportButton);
+        if (frame == 7) proposed = ui.pathField;
+        // "z", "u", "5": zoom in, undo and size 5 as keys; text in the field, replacing the
+        // proposed path (selected when the dialog opens).
+        const std::pair<int, char> typed[] = {
+            {GLFW_KEY_Z, 'z'}, {GLFW_KEY_U, 'u'}, {GLFW_KEY_5, '5'}};
+        for (size_t i = 0; i < 3; ++i) {
+            if (frame == 8 + 2 * i) {
+                inject.push_back(key(typed[i].first, true));
+                inject.push_back(character(typed[i].second));
+            }
+            if (frame == 9 + 2 * i) inject.push_back(key(typed[i].first, false));
+        }
+        if (frame == 14) fieldAfterTyping = ui.pathField;
+        // Enter: "zu5" is no export format: the error stays in the dialog.
+        if (frame == 15) inject.push_back(key(GLFW_KEY_ENTER, true));
+        if (frame == 16) inject.push_back(key(GLFW_KEY_ENTER, false));
+        if (frame == 19) {
+            errorAfterBadPath = ui.dialogError;
+            dialogAfterBadPath = ui.rects.count("dialog") > 0;
+        }
+        // The field has the keyboard again, its text selected: a good path replaces it.
+        if (frame == 20)
+            for (char c : good)
+                inject.push_back(character(c));
+        if (frame == 22) inject.push_back(key(GLFW_KEY_ENTER, true));
+        if (frame == 23) inject.push_back(key(GLFW_KEY_ENTER, false));
+    };
+    std::ostringstream out, err;
+    ASSERT_EQ(app::runWindow(o, out, err), 0) << err.str();
+    // The dialog proposed a .glb in the exports folder.
+    ASSERT_GT(proposed.size(), 4u);
+    EXPECT_EQ(proposed.substr(proposed.size() - 4), ".glb");
+    EXPECT_EQ(fieldAfterTyping, "zu5");
+    // None of the typed keys ran its binding.
+    EXPECT_EQ(report.zoom, 1);
+    EXPECT_EQ(report.size, 7);
+    EXPECT_EQ(report.steps, 0u);
+    EXPECT_TRUE(dialogAfterBadPath);
+    EXPECT_NE(errorAfterBadPath.find("zu5: unknown export format"), std::string::npos)
+        << errorAfterBadPath;
+    // The export went to the typed path, the dialog closed, the message names the file.
+    EXPECT_TRUE(std::filesystem::exists(good)) << err.str();
+    EXPECT_FALSE(report.ui.rects.count("dialog"));
+    EXPECT_NE(report.message.find("exported " + good), std::string::npos) << report.message;
+    std::filesystem::remove_all(dir);
+}
+
+TEST(WindowUi, SketchWindowHasItsPanelAndHelpOnItsKey) {
+    render::Image img;
+    app::UiState ui;
+    app::SketchWindowOptions o;
+    o.noProject = true;
+    o.devices = false;
+    o.hidden = true;
+    o.width = 1280;
+    o.height = 720;
+    o.frames = 6;
+    o.lastFrame = &img;
+    o.uiReport = &ui;
+    o.injectedEvents = {{2, key(GLFW_KEY_F4, true)}, {3, key(GLFW_KEY_F4, false)}};
+    std::ostringstream out, err;
+    ASSERT_EQ(app::runSketchWindow(o, out, err), 0) << err.str();
+    for (const char* name : {"status", "help"}) {
+        ASSERT_TRUE(ui.rects.count(name)) << name;
+        const Census c = census(img, ui.rects.at(name));
+        EXPECT_GT(c.panel, c.total / 3) << name;
+        EXPECT_GT(c.text, 150u) << name;
+    }
+    for (const char* b : {"button:draft", "button:clean-up", "button:inflate", "button:outline",
+                          "button:next", "button:undo"})
+        EXPECT_TRUE(ui.rects.count(b)) << b;
+    // F4 is help, not one of the views (F1 to F3 stay the views).
+    EXPECT_NE(out.str().find("0 step(s)"), std::string::npos);
+}
+
+}  // namespace

@@ -159,7 +159,7 @@ int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
     }
     Studio studio(cfg);
     Interaction interaction(studio);
-    LiveDevices live(cfg.devices, err);
+    LiveDevices live(cfg.devices);
     DeviceInput input(cfg.devices, live.rules(), interaction, studio);
 
     gStop = false;

@@ -6,11 +6,13 @@
 #include <GLFW/glfw3.h>  // key codes only
 
 #include "vsculpt/core/Config.h"
+#include "vsculpt/core/PrintableText.h"
 
 #include <cstdlib>
 #include <map>
-#include <ostream>
 #include <string>
+
+#include <spdlog/spdlog.h>
 
 namespace vsculpt::app {
 
@@ -45,22 +47,23 @@ inline int keyCode(const std::string& name) {
 }
 
 /// A binding table (interaction.bindings or interaction.sketch_bindings) by key code. False
-/// (and the message, naming the config file and the binding, written to `err`) for an unknown
-/// key name or a key bound twice.
+/// (and an error logged, naming the config file and the binding) for an unknown key name or a
+/// key bound twice.
 inline bool bindingsByKey(const core::SculptConfig& cfg,
                           const std::map<std::string, std::string>& bindings,
-                          const std::string& section, std::map<int, std::string>& actionOfKey,
-                          std::ostream& err) {
+                          const std::string& section, std::map<int, std::string>& actionOfKey) {
     for (const auto& [action, key] : bindings) {
         const int code = keyCode(key);
         if (code < 0) {
-            err << "vsculpt: error: " << cfg.source << ": interaction." << section << "." << action
-                << ": unknown key name '" << key << "' (use A-Z, 0-9, F1-F12, TAB, SPACE, ...)\n";
+            spdlog::error(
+                "{}: interaction.{}.{}: unknown key name '{}' (use A-Z, 0-9, F1-F12, "
+                "TAB, SPACE, ...)",
+                cfg.source, section, action, core::printableText(key));
             return false;
         }
         if (actionOfKey.count(code)) {
-            err << "vsculpt: error: " << cfg.source << ": interaction." << section << "." << action
-                << ": key '" << key << "' is already bound to " << actionOfKey[code] << "\n";
+            spdlog::error("{}: interaction.{}.{}: key '{}' is already bound to {}", cfg.source,
+                          section, action, core::printableText(key), actionOfKey[code]);
             return false;
         }
         actionOfKey[code] = action;

@@ -4,12 +4,11 @@
 #include "vsculpt/devices/HidrawTransport.h"
 #include "vsculpt/devices/UsbTransport.h"
 
-#include <ostream>
+#include <spdlog/spdlog.h>
 
 namespace vsculpt::app {
 
-LiveDevices::LiveDevices(const core::DevicesConfig& cfg, std::ostream& log)
-    : mRules(deviceRules(cfg)) {
+LiveDevices::LiveDevices(const core::DevicesConfig& cfg) : mRules(deviceRules(cfg)) {
     devices::TransportOptions options;
     options.rules = mRules;
     options.transfersInFlight = cfg.transfersInFlight;
@@ -22,7 +21,7 @@ LiveDevices::LiveDevices(const core::DevicesConfig& cfg, std::ostream& log)
         try {
             mTransports.push_back(std::make_unique<devices::UsbTransport>(options, mQueue));
         } catch (const devices::TransportError& e) {
-            log << "vsculpt: warning: " << e.what() << "; libusb devices are not available\n";
+            spdlog::warn("{}; libusb devices are not available", e.what());
         }
     }
     if (wantHidraw)

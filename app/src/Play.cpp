@@ -213,10 +213,9 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
     RigOptions ro;
     ro.project = o.projectDir.empty() ? ProjectChoice::None : ProjectChoice::Given;
     ro.projectDir = o.projectDir;
-    ro.who = "vsculpt play";
     std::unique_ptr<Rig> rig;
     try {
-        rig = std::make_unique<Rig>(cfg, ro, err);
+        rig = std::make_unique<Rig>(cfg, ro);
     } catch (const std::exception& e) {
         spdlog::error("{}", e.what());
         return 2;

@@ -12,23 +12,22 @@
 #include <cstdlib>
 #include <ctime>
 #include <fstream>
-#include <iostream>
 #include <ostream>
 #include <sstream>
+
+#include <spdlog/spdlog.h>
 
 namespace vsculpt::app {
 
 using namespace vsculpt::studio;
 
-RigOptions windowRigOptions(const std::string& projectDir, bool noProject, bool liveDevices,
-                            const std::string& who) {
+RigOptions windowRigOptions(const std::string& projectDir, bool noProject, bool liveDevices) {
     RigOptions ro;
     ro.project = noProject            ? ProjectChoice::None
                  : projectDir.empty() ? ProjectChoice::Autosave
                                       : ProjectChoice::Given;
     ro.projectDir = projectDir;
     ro.liveDevices = liveDevices;
-    ro.who = who;
     return ro;
 }
 
@@ -63,7 +62,7 @@ std::vector<std::filesystem::path> readRecent() {
 
 }  // namespace
 
-void rememberLastProject(const std::filesystem::path& dir, std::ostream& err) {
+void rememberLastProject(const std::filesystem::path& dir) {
     try {
         std::filesystem::create_directories(dataDir());
         const std::filesystem::path absolute = std::filesystem::absolute(dir);
@@ -73,7 +72,7 @@ void rememberLastProject(const std::filesystem::path& dir, std::ostream& err) {
             text += p.string() + "\n";
         core::writeFileAtomically(dataDir() / "recent-projects", text, false);
     } catch (const std::exception& e) {
-        err << "vsculpt: warning: cannot remember the last project: " << e.what() << "\n";
+        spdlog::warn("cannot remember the last project: {}", e.what());
     }
 }
 
@@ -153,7 +152,7 @@ void installProjector(Studio& studio) {
         });
 }
 
-Rig::Rig(const core::SculptConfig& cfg, const RigOptions& options, std::ostream& log)
+Rig::Rig(const core::SculptConfig& cfg, const RigOptions& options)
     : mConfig(cfg), mOptions(options) {
     switch (options.project) {
         case ProjectChoice::None:
@@ -161,33 +160,32 @@ Rig::Rig(const core::SculptConfig& cfg, const RigOptions& options, std::ostream&
             installProjector(*mStudio);
             break;
         case ProjectChoice::Given:
-            openStudio(options.projectDir, log);
+            openStudio(options.projectDir);
             break;
         case ProjectChoice::Autosave: {
             // The last project, unless it cannot be opened (open in another vsculpt, damaged
             // beyond recovery): then a new one, so the session always has somewhere to save.
             if (const auto last = lastProject()) {
                 try {
-                    openStudio(*last, log);
+                    openStudio(*last);
                 } catch (const std::exception& e) {
-                    log << options.who << ": the last project cannot be opened: " << e.what()
-                        << "\n";
+                    spdlog::warn("the last project cannot be opened: {}", e.what());
                 }
             }
-            if (!mStudio) openStudio(newProjectDir("autosave"), log);
+            if (!mStudio) openStudio(newProjectDir("autosave"));
             break;
         }
     }
     if (mStudio->session().projectDir() && options.mode == ProjectMode::ReadWrite &&
         options.project == ProjectChoice::Autosave)
-        rememberLastProject(*mStudio->session().projectDir(), log);
-    if (options.liveDevices) mLive = std::make_unique<LiveDevices>(cfg.devices, log);
+        rememberLastProject(*mStudio->session().projectDir());
+    if (options.liveDevices) mLive = std::make_unique<LiveDevices>(cfg.devices);
     rebuildInput();
 }
 
 Rig::~Rig() = default;
 
-void Rig::openStudio(const std::filesystem::path& dir, std::ostream&) {
+void Rig::openStudio(const std::filesystem::path& dir) {
     mStudio = Studio::openProject(dir, mConfig, mOptions.mode);
     installProjector(*mStudio);
 }
@@ -198,22 +196,22 @@ DeviceInput& Rig::replayDevices(std::vector<devices::DeviceRule> rules) {
     return *mDevices;
 }
 
-void Rig::pumpDevices(std::ostream& log) {
+void Rig::pumpDevices() {
     if (!mLive) return;
     try {
         mLive->pump([&](const devices::DeviceEvent& e) {
             if (e.kind == devices::DeviceEventKind::Arrived ||
                 e.kind == devices::DeviceEventKind::Left)
-                log << mOptions.who << ": " << e.device
-                    << (e.kind == devices::DeviceEventKind::Arrived ? " connected\n"
-                                                                    : " disconnected\n");
+                spdlog::info(
+                    "{} {}", e.device,
+                    e.kind == devices::DeviceEventKind::Arrived ? "connected" : "disconnected");
             mDevices->handle(e);
         });
         mLive->send(mDevices->takeOutput());
     } catch (const std::logic_error&) {
         throw;  // a broken invariant is a bug, not a device failure
     } catch (const std::exception& e) {
-        log << mOptions.who << ": " << e.what() << "\n";
+        spdlog::warn("{}", e.what());
     }
 }
 
@@ -255,10 +253,10 @@ std::string Rig::saveAs(const std::filesystem::path& dir) {
     mDevices.reset();
     mInteraction.reset();
     mStudio.reset();  // unlocks the old project
-    openStudio(dir, std::cerr);
+    openStudio(dir);
     mStudio->setObjectPose(pose);
     rebuildInput();
-    rememberLastProject(dir, std::cerr);
+    rememberLastProject(dir);
     return "saved as " + dir.string() + " (continuing there)";
 }
 
@@ -276,9 +274,9 @@ std::string Rig::newProject() {
     mDevices.reset();
     mInteraction.reset();
     mStudio.reset();
-    openStudio(dir, std::cerr);
+    openStudio(dir);
     rebuildInput();
-    rememberLastProject(dir, std::cerr);
+    rememberLastProject(dir);
     return saved + "new project " + dir.string();
 }
 
@@ -302,7 +300,7 @@ std::string Rig::openProject(const std::filesystem::path& dir) {
     mStudio = std::move(next);
     installProjector(*mStudio);
     rebuildInput();
-    rememberLastProject(dir, std::cerr);
+    rememberLastProject(dir);
     return saved + "opened " + dir.string();
 }
 

@@ -51,6 +51,8 @@ const char* planeName(SketchPlane p) {
 }  // namespace
 
 int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::ostream& err) {
+    (void)out;  // nothing here is data: every message is a log line on `err`
+    LogScope log(err, options.verbosity, "vsculpt sketch");
     SketchWindowOptions o = options;
     // A shot without a frame count is of the first frame, not of a window left open.
     if (!o.shotPath.empty() && o.frames == 0) o.frames = 1;
@@ -59,7 +61,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
             requirePngPath(o.shotPath, "--shot");
             core::ensureWritable(o.shotPath);
         } catch (const std::exception& e) {
-            err << "vsculpt sketch: error: " << e.what() << "\n";
+            spdlog::error("{}", e.what());
             return 2;
         }
     }
@@ -70,11 +72,12 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
                                                     : std::filesystem::path(o.configPath));
         if (!o.playScript.empty()) script = loadScript(o.playScript);
     } catch (const std::exception& e) {
-        err << "vsculpt sketch: error: " << e.what() << "\n";
+        spdlog::error("{}", e.what());
         return 2;
     }
+    spdlog::debug("config: {}", cfg.source);
     std::map<int, std::string> actionOfKey;
-    if (!bindingsByKey(cfg, cfg.interaction.sketchBindings, "sketch_bindings", actionOfKey, err))
+    if (!bindingsByKey(cfg, cfg.interaction.sketchBindings, "sketch_bindings", actionOfKey))
         return 2;
     std::unique_ptr<render::Viewer> viewer;
     std::unique_ptr<render::UiLayer> uiLayer;
@@ -82,22 +85,23 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
         viewer = std::make_unique<render::Viewer>(o.width, o.height, "vsculpt sketch", !o.hidden);
         if (o.ui) uiLayer = std::make_unique<render::UiLayer>(*viewer);
     } catch (const render::RenderError& e) {
-        err << "vsculpt sketch: no sketch window: " << e.what() << "\n"
-            << "vsculpt sketch: for a headless sketch session run `vsculpt play SCRIPT` with "
-               "sketch commands (docs/playback.md)\n";
+        spdlog::error("no sketch window: {}", e.what());
+        spdlog::info(
+            "for a headless sketch session run `vsculpt play SCRIPT` with sketch "
+            "commands (docs/playback.md)");
         return 1;
     }
     // The same studio, project and devices as every session (Rig.h): by default the last
     // project or a new autosave project, every step saved as it is made.
-    const RigOptions ro = windowRigOptions(o.projectDir, o.noProject, o.devices, "vsculpt sketch");
+    const RigOptions ro = windowRigOptions(o.projectDir, o.noProject, o.devices);
     std::unique_ptr<Rig> rig;
     try {
-        rig = std::make_unique<Rig>(cfg, ro, err);
+        rig = std::make_unique<Rig>(cfg, ro);
     } catch (const std::exception& e) {
-        err << "vsculpt sketch: error: " << e.what() << "\n";
+        spdlog::error("{}", e.what());
         return 2;
     }
-    out << "vsculpt sketch: " << rig->projectSummary() << "\n";
+    logLines(spdlog::level::info, rig->projectSummary());
     render::SketchCanvas canvas;
     // The headset sees the sculpture in stereo while the designer sketches on the desktop.
     std::unique_ptr<render::Viewer> headset;
@@ -107,11 +111,12 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
                 std::make_unique<render::Viewer>(1280, 720, "vsculpt sketch — headset", !o.hidden);
             if (cfg.render.fullscreenMonitor >= 0 &&
                 !headset->goFullscreen(cfg.render.fullscreenMonitor))
-                err << "vsculpt sketch: monitor " << cfg.render.fullscreenMonitor
-                    << " not found (render.fullscreen_monitor); the headset view stays a "
-                       "window\n";
+                spdlog::warn(
+                    "monitor {} not found (render.fullscreen_monitor); the headset view "
+                    "stays a window",
+                    cfg.render.fullscreenMonitor);
         } catch (const render::RenderError& e) {
-            err << "vsculpt sketch: no headset window: " << e.what() << "\n";
+            spdlog::error("no headset window: {}", e.what());
             return 1;
         }
         viewer->makeCurrent();
@@ -195,7 +200,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
                 f();
             } catch (const std::exception& e) {
                 message = e.what();
-                err << "vsculpt sketch: " << e.what() << "\n";
+                spdlog::warn("{}", e.what());
             }
         };
         auto sketchCommand = [&](SketchCommand::Verb verb, const std::string& name = "") {
@@ -214,8 +219,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
             try {
                 studio.apply(c);
             } catch (const std::exception& e) {
-                err << "vsculpt sketch: " << script.source << ":" << c.line << ": " << e.what()
-                    << "\n";
+                spdlog::error("{}:{}: {}", script.source, c.line, e.what());
                 return 2;
             }
         }
@@ -231,7 +235,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
             } else if (Rig::handles(action)) {
                 act([&] {
                     message = rig->projectAction(action);
-                    out << "vsculpt sketch: " << message << "\n";
+                    spdlog::info("{}", message);
                     switched = action == "save_as" || action == "new_project";
                 });
                 if (switched) {
@@ -445,7 +449,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
                 if (a.name == "preferences_changed") {
                     uiLayer->setScale(float(cfg.render.uiScale));
                 } else if (applySharedUiAction(a, *rig, uiState, cfg, message, switched)) {
-                    if (!message.empty()) out << "vsculpt sketch: " << message << "\n";
+                    if (!message.empty()) spdlog::info("{}", message);
                 } else {
                     applyAction(a.name);
                 }
@@ -457,7 +461,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
             }
         }
         if (devices) {
-            rig->pumpDevices(err);
+            rig->pumpDevices();
             // The whole tablet maps onto the canvas; its pen draws with pressure.
             for (const devices::PenSample& s : devices->takePenSamples()) {
                 if (!s.hasPosition && s.inProximity) continue;
@@ -509,7 +513,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
             }
             canvas.draw(ink, canvasView(page().view(), canvasPx), {0, 0}, overlay);
         } catch (const std::exception& e) {
-            err << "vsculpt sketch: error: " << e.what() << "\n";
+            spdlog::error("{}", e.what());
             return 1;
         }
         if (uiLayer) viewer->overlayUi(uiImage);
@@ -521,9 +525,9 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
             if (!o.shotPath.empty()) {
                 try {
                     render::writePng(img, o.shotPath);
-                    out << "vsculpt sketch: wrote " << o.shotPath << "\n";
+                    spdlog::info("wrote {}", o.shotPath);
                 } catch (const std::exception& e) {
-                    err << "vsculpt sketch: error: " << e.what() << "\n";
+                    spdlog::error("{}", e.what());
                     return 1;
                 }
             }
@@ -565,9 +569,9 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
     }
     if (o.uiReport) *o.uiReport = uiState;
     rig->studio().endStroke();
-    out << "vsculpt sketch: " << frame << " frame(s), " << rig->studio().document().pageCount()
-        << " page(s), " << rig->studio().stepCount() << " step(s), "
-        << rig->session().sculpture().counts().total() << " skeletons\n";
+    spdlog::info("{} frame(s), {} page(s), {} step(s), {} skeletons", frame,
+                 rig->studio().document().pageCount(), rig->studio().stepCount(),
+                 rig->session().sculpture().counts().total());
     return 0;
 }
 

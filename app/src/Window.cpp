@@ -38,6 +38,8 @@ const char* toolName(ToolKind t) {
 }  // namespace
 
 int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err) {
+    (void)out;  // nothing here is data: every message is a log line on `err`
+    LogScope log(err, options.verbosity, "vsculpt");
     WindowOptions o = options;
     // A shot without a frame count is of the first frame, not of a window left open.
     if (!o.shotPath.empty() && o.frames == 0) o.frames = 1;
@@ -46,7 +48,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
             requirePngPath(o.shotPath, "--shot");
             core::ensureWritable(o.shotPath);
         } catch (const std::exception& e) {
-            err << "vsculpt: error: " << e.what() << "\n";
+            spdlog::error("{}", e.what());
             return 2;
         }
     }
@@ -59,35 +61,36 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         mode = render::parseStereoMode(o.stereo.empty() ? cfg.render.stereo : o.stereo);
         if (!o.playScript.empty()) script = loadScript(o.playScript);
     } catch (const std::exception& e) {
-        err << "vsculpt: error: " << e.what() << "\n";
+        spdlog::error("{}", e.what());
         return 2;
     }
+    spdlog::debug("config: {}", cfg.source);
     std::map<int, std::string> actionOfKey;
-    if (!bindingsByKey(cfg, cfg.interaction.bindings, "bindings", actionOfKey, err)) return 2;
+    if (!bindingsByKey(cfg, cfg.interaction.bindings, "bindings", actionOfKey)) return 2;
     std::unique_ptr<render::Viewer> viewer;
     std::unique_ptr<render::UiLayer> uiLayer;
     try {
         viewer = std::make_unique<render::Viewer>(o.width, o.height, "vsculpt", !o.hidden);
         if (o.ui) uiLayer = std::make_unique<render::UiLayer>(*viewer);
     } catch (const render::RenderError& e) {
-        err << "vsculpt: no sculpting window: " << e.what() << "\n"
-            << "vsculpt: for a headless session run `vsculpt play SCRIPT` (docs/playback.md)\n";
+        spdlog::warn("no sculpting window: {}", e.what());
+        spdlog::info("for a headless session run `vsculpt play SCRIPT` (docs/playback.md)");
         return 1;
     }
 
     // The studio, its project and the devices, built as for every session (Rig.h). By
     // default the window continues the last project, or starts a new autosave project, so
     // work sculpted here is journaled as it is made and survives a crash.
-    const RigOptions ro = windowRigOptions(o.projectDir, o.noProject, o.devices, "vsculpt");
+    const RigOptions ro = windowRigOptions(o.projectDir, o.noProject, o.devices);
     std::unique_ptr<Rig> rig;
     try {
-        rig = std::make_unique<Rig>(cfg, ro, err);
+        rig = std::make_unique<Rig>(cfg, ro);
     } catch (const std::exception& e) {
-        err << "vsculpt: error: " << e.what() << "\n";
+        spdlog::error("{}", e.what());
         return 2;
     }
     // Recovery is reported where the user looks: on the terminal and in the title bar.
-    out << "vsculpt: " << rig->projectSummary() << "\n";
+    logLines(spdlog::level::info, rig->projectSummary());
     std::string message = rig->session().recoveredEdits() > 0
                               ? "recovered " + std::to_string(rig->session().recoveredEdits()) +
                                     " edit(s); F8 starts a new project"
@@ -119,8 +122,8 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
     const render::LensCorrection lens{cfg.render.lensK1, cfg.render.lensK2, cfg.render.lensRedScale,
                                       cfg.render.lensBlueScale};
     if (cfg.render.fullscreenMonitor >= 0 && !viewer->goFullscreen(cfg.render.fullscreenMonitor))
-        err << "vsculpt: monitor " << cfg.render.fullscreenMonitor
-            << " not found (render.fullscreen_monitor); staying in a window\n";
+        spdlog::warn("monitor {} not found (render.fullscreen_monitor); staying in a window",
+                     cfg.render.fullscreenMonitor);
     // What the camera frames: the mesh on show, refreshed now and then (and on zoom).
     Aabb frameBox = meshBounds(sessionNow().view().mesh());
     int framedZoom = sessionNow().zoom();
@@ -152,7 +155,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
             try {
                 studio.apply(c);
             } catch (const std::exception& e) {
-                err << "vsculpt: " << script.source << ":" << c.line << ": " << e.what() << "\n";
+                spdlog::error("{}:{}: {}", script.source, c.line, e.what());
                 return 2;
             }
         }
@@ -191,7 +194,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
                     studio.redo();
                 else if (Rig::handles(a)) {
                     message = rig->projectAction(a);
-                    out << "vsculpt: " << message << "\n";
+                    spdlog::info("{}", message);
                     // Save as and new project replace the studio: this frame's
                     // references are gone, start the next frame with the new one.
                     switched = a == "save_as" || a == "new_project";
@@ -200,7 +203,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
                 throw;  // a broken invariant: not a refused command
             } catch (const std::exception& e) {
                 message = e.what();
-                err << "vsculpt: " << e.what() << "\n";
+                spdlog::warn("{}", e.what());
             }
         };
         std::vector<render::InputEvent> injected;
@@ -303,14 +306,14 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
                     display.ipdMm = cfg.render.ipdMm;
                     uiLayer->setScale(float(cfg.render.uiScale));
                 } else if (applySharedUiAction(a, *rig, uiState, cfg, message, switched)) {
-                    if (!message.empty()) out << "vsculpt: " << message << "\n";
+                    if (!message.empty()) spdlog::info("{}", message);
                 } else {
                     doAction(a.name);
                 }
             }
             if (switched) continue;
         }
-        rig->pumpDevices(out);
+        rig->pumpDevices();
         worldFromObject = worldFromObjectMatrix();
         // A tracker pen, when one reports, places the tool; the pointer does otherwise.
         DeviceInput* devices = rig->devices();
@@ -336,7 +339,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
             try {
                 ui.moveTool(toolWorld);
             } catch (const SessionError& e) {
-                err << "vsculpt: " << e.what() << "\n";
+                spdlog::warn("{}", e.what());
             }
         }
         render::ToolDraw tool;
@@ -368,9 +371,9 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
             if (!o.shotPath.empty()) {
                 try {
                     render::writePng(img, o.shotPath);
-                    out << "vsculpt: wrote " << o.shotPath << "\n";
+                    spdlog::info("wrote {}", o.shotPath);
                 } catch (const std::exception& e) {
-                    err << "vsculpt: error: " << e.what() << "\n";
+                    spdlog::error("{}", e.what());
                     return 1;
                 }
             }
@@ -407,9 +410,10 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         r.uiShiftNdc[1] = viewer->lastUiShiftNdc(render::Eye::Right);
         r.meanUiMs = frame > 0 ? uiMsTotal / double(frame) : 0;
     }
-    if (rig->devices() && !rig->devices()->counters().empty()) out << rig->devices()->summary();
-    out << "vsculpt: " << frame << " frame(s), " << rig->session().sculpture().counts().total()
-        << " skeletons, last frame " << frameMs << " ms\n";
+    if (rig->devices() && !rig->devices()->counters().empty())
+        logLines(spdlog::level::info, rig->devices()->summary());
+    spdlog::info("{} frame(s), {} skeletons, last frame {}", frame,
+                 rig->session().sculpture().counts().total(), formatDuration(frameMs / 1000));
     return 0;
 }
 

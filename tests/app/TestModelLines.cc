@@ -40,8 +40,7 @@ TEST(Studio, DrawingOnTheModelGivesSurfaceLinesThatUndo) {
     TempDir dir;
     std::vector<Vec3> line;
     {
-        auto rigStudio =
-            std::make_unique<app::Rig>(smallConfig(), projectOptions(dir.path), std::cerr);
+        auto rigStudio = std::make_unique<app::Rig>(smallConfig(), projectOptions(dir.path));
         Studio& studio = rigStudio->studio();
         const Session* session = &studio.session();
         // Across the initial sphere (radius 20) in a 400 x 300 front view, and one stroke that

@@ -2,6 +2,7 @@
 // The UI's files: the recent-projects list (order, duplicates, pruning of folders that are
 // gone) and preferences saved as the user's config (atomically, read back by loadConfig);
 // the help overlay lists every binding.
+#include "vsculpt/app/Log.h"
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/app/WindowUi.h"
 #include "vsculpt/core/Config.h"
@@ -65,8 +66,11 @@ TEST(RecentProjects, RememberedInOrderAndOnlyExistingOnesOffered) {
         projects.push_back(p);
     }
     std::ostringstream log;
-    for (int i : {0, 1, 2, 0})
-        app::rememberLastProject(projects[size_t(i)], log);
+    {
+        app::LogScope scope(log, app::Verbosity::Normal);  // warnings would land in `log`
+        for (int i : {0, 1, 2, 0})
+            app::rememberLastProject(projects[size_t(i)]);
+    }
     EXPECT_EQ(log.str(), "");
     EXPECT_EQ(app::recentProjects(),
               (std::vector<fs::path>{projects[0], projects[2], projects[1]}));
@@ -89,10 +93,9 @@ TEST(RecentProjects, OpeningOneSwitchesSafely) {
         o.projectDir = dir;
         return o;
     };
-    std::ostringstream log;
-    { app::Rig make(cfg, options(root / "b"), log); }  // a project to open later
-    app::Rig rig(cfg, options(root / "a"), log);
-    app::Rig holder(cfg, options(root / "c"), log);  // keeps "c" locked
+    { app::Rig make(cfg, options(root / "b")); }  // a project to open later
+    app::Rig rig(cfg, options(root / "a"));
+    app::Rig holder(cfg, options(root / "c"));  // keeps "c" locked
     EXPECT_THROW(rig.openProject(root / "nothing-here"), core::ProjectError);
     EXPECT_THROW(rig.openProject(root / "c"), std::exception);
     EXPECT_EQ(rig.session().projectDir(), root / "a");
@@ -101,7 +104,7 @@ TEST(RecentProjects, OpeningOneSwitchesSafely) {
     EXPECT_EQ(rig.session().projectDir(), root / "b");
     EXPECT_EQ(app::recentProjects().front(), root / "b");
     // "a" was saved and unlocked: another rig can open it now.
-    EXPECT_NO_THROW(app::Rig(cfg, options(root / "a"), log));
+    EXPECT_NO_THROW(app::Rig(cfg, options(root / "a")));
 }
 
 TEST(Preferences, SavedAtomicallyAsTheUserConfigAndReadBack) {

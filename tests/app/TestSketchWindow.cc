@@ -86,7 +86,7 @@ TEST(SketchWindow, ScreenshotShowsTheCanvasAndTheSolid) {
     EXPECT_GT(rightBackground, half / 3);
     EXPECT_GT(rightSculpture, half / 20);  // the sphere and the inflated solid
     EXPECT_GT(rightLine, 50u);             // the surface line drawn on the model
-    EXPECT_NE(out.str().find("10 frame(s), 2 page(s), 4 step(s)"), std::string::npos) << out.str();
+    EXPECT_NE(err.str().find("10 frame(s), 2 page(s), 4 step(s)"), std::string::npos) << err.str();
     std::filesystem::remove_all(dir);
 }
 
@@ -198,7 +198,7 @@ TEST(SketchWindow, MouseDrawingAndKeysMakeASolid) {
     std::ostringstream out, err;
     ASSERT_EQ(app::runSketchWindow(o, out, err), 0) << err.str();
     // stroke, role, solid, line on the model
-    EXPECT_NE(out.str().find("1 page(s), 4 step(s)"), std::string::npos) << out.str() << err.str();
+    EXPECT_NE(err.str().find("1 page(s), 4 step(s)"), std::string::npos) << err.str();
     size_t line = 0;
     for (int y = 0; y < img.height; ++y)
         for (int x = 640; x < img.width; ++x)
@@ -211,7 +211,7 @@ TEST(SketchWindow, MouseDrawingAndKeysMakeASolid) {
     o.frames = int(f + 4);
     std::ostringstream out2, err2;
     ASSERT_EQ(app::runSketchWindow(o, out2, err2), 0) << err2.str();
-    EXPECT_NE(out2.str().find("1 page(s), 2 step(s)"), std::string::npos) << out2.str();
+    EXPECT_NE(err2.str().find("1 page(s), 2 step(s)"), std::string::npos) << err2.str();
 }
 
 TEST(SketchWindow, BadScriptIsRefusedWithTheLine) {

@@ -314,7 +314,7 @@ TEST(WindowUi, SketchWindowHasItsPanelAndHelpOnItsKey) {
                           "button:next", "button:undo"})
         EXPECT_TRUE(ui.rects.count(b)) << b;
     // F4 is help, not one of the views (F1 to F3 stay the views).
-    EXPECT_NE(out.str().find("0 step(s)"), std::string::npos);
+    EXPECT_NE(err.str().find("0 step(s)"), std::string::npos) << err.str();
 }
 
 }  // namespace

@@ -19,9 +19,9 @@ namespace vsculpt::app {
 class LiveDevices {
   public:
     /// Starts the transports for the config's rules. A transport that cannot start (no USB
-    /// stack, no /sys) is reported on `log` and left out; nothing here throws for a missing
+    /// stack, no /sys) is logged as a warning and left out; nothing here throws for a missing
     /// device: they may arrive later.
-    LiveDevices(const core::DevicesConfig& cfg, std::ostream& log);
+    explicit LiveDevices(const core::DevicesConfig& cfg);
     ~LiveDevices();
 
     /// Hands every queued event, oldest first, to `sink`.

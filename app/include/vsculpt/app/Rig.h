@@ -33,15 +33,13 @@ struct RigOptions {
     ProjectChoice project = ProjectChoice::None;
     std::filesystem::path projectDir;  ///< ProjectChoice::Given
     studio::ProjectMode mode = studio::ProjectMode::ReadWrite;
-    bool liveDevices = false;     ///< open the connected trackers, 3D mice, tablets, headsets
-    bool alwaysEngaged = false;   ///< the thesis's always-engaged pen (Interaction.h)
-    std::string who = "vsculpt";  ///< message prefix
+    bool liveDevices = false;    ///< open the connected trackers, 3D mice, tablets, headsets
+    bool alwaysEngaged = false;  ///< the thesis's always-engaged pen (Interaction.h)
 };
 
 /// A window's rig: `projectDir` when given, no project with `noProject`, otherwise the last
 /// project or a new autosave project (ProjectChoice::Autosave).
-RigOptions windowRigOptions(const std::string& projectDir, bool noProject, bool liveDevices,
-                            const std::string& who);
+RigOptions windowRigOptions(const std::string& projectDir, bool noProject, bool liveDevices);
 
 /// The folder projects live in by default: $XDG_DATA_HOME/vsculpt (~/.local/share/vsculpt).
 std::filesystem::path dataDir();
@@ -49,7 +47,7 @@ std::filesystem::path dataDir();
 std::optional<std::filesystem::path> lastProject();
 /// Remembers `dir` as the last project and at the top of the recent projects (best effort:
 /// a failure is only reported).
-void rememberLastProject(const std::filesystem::path& dir, std::ostream& err);
+void rememberLastProject(const std::filesystem::path& dir);
 /// The recent projects, most recent first (dataDir()/recent-projects, one absolute path a
 /// line), only those whose folder still holds a project.
 std::vector<std::filesystem::path> recentProjects();
@@ -77,7 +75,7 @@ class Rig {
     /// Opens the studio (and its project) and, when asked, the devices. Throws
     /// core::ProjectError (a project that cannot be opened, one open elsewhere),
     /// std::invalid_argument (a damaged sketch.json).
-    Rig(const core::SculptConfig& cfg, const RigOptions& options, std::ostream& log);
+    Rig(const core::SculptConfig& cfg, const RigOptions& options);
     ~Rig();
 
     studio::Studio& studio() { return *mStudio; }
@@ -88,8 +86,8 @@ class Rig {
     DeviceInput& replayDevices(std::vector<devices::DeviceRule> rules);
 
     /// Hands queued device events to the mapping; arrivals and departures are reported on
-    /// `log`. Device failures are reported, never thrown.
-    void pumpDevices(std::ostream& log);
+    /// the log. Device failures are reported, never thrown.
+    void pumpDevices();
 
     /// A line for the user about the project: where it is, what was recovered.
     std::string projectSummary() const;
@@ -118,7 +116,7 @@ class Rig {
     std::string projectAction(const std::string& action);
 
   private:
-    void openStudio(const std::filesystem::path& dir, std::ostream& log);
+    void openStudio(const std::filesystem::path& dir);
     void rebuildInput();
 
     core::SculptConfig mConfig;

@@ -40,8 +40,8 @@ struct UiRect {
 /// export.
 struct UiAction {
     std::string name;
-    std::filesystem::path path;
-    core::ExportOptions exportOptions;
+    std::filesystem::path path{};
+    core::ExportOptions exportOptions{};
 };
 
 /// The UI's own state between frames (which panels are open, the dialogs' fields) and, for

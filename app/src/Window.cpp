@@ -32,7 +32,10 @@ using namespace vsculpt::core;
 namespace {
 
 const char* toolName(ToolKind t) {
-    return t == ToolKind::Add ? "add" : t == ToolKind::Carve ? "carve" : "select";
+    return t == ToolKind::Add      ? "add"
+           : t == ToolKind::Carve  ? "carve"
+           : t == ToolKind::Smooth ? "smooth"
+                                   : "select";
 }
 
 }  // namespace
@@ -169,10 +172,19 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
                     running = false;
                 else if (a == "help")
                     uiState.help = !uiState.help;
-                else if (a == "tool_add" || a == "tool_carve" || a == "tool_select")
-                    studio.setTool(a == "tool_add"     ? ToolKind::Add
-                                   : a == "tool_carve" ? ToolKind::Carve
-                                                       : ToolKind::Select);
+                else if (a == "tool_add" || a == "tool_carve" || a == "tool_smooth" ||
+                         a == "tool_select")
+                    studio.setTool(a == "tool_add"      ? ToolKind::Add
+                                   : a == "tool_carve"  ? ToolKind::Carve
+                                   : a == "tool_smooth" ? ToolKind::Smooth
+                                                        : ToolKind::Select);
+                else if (a == "cycle_mirror")
+                    ui.cycleMirror();
+                else if (a.rfind("mirror_", 0) == 0)
+                    studio.setMirror(a == "mirror_x"   ? core::MirrorAxis::X
+                                     : a == "mirror_y" ? core::MirrorAxis::Y
+                                     : a == "mirror_z" ? core::MirrorAxis::Z
+                                                       : core::MirrorAxis::None);
                 else if (a.rfind("zoom_", 0) == 0 && a.size() == 6)
                     ui.jumpToZoom(a.back() - '0', lastSculptPoint);
                 else if (a == "cycle_tool")
@@ -280,6 +292,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
             uiLayer->beginFrame(uiSize.x, uiSize.y, std::max(1e-3, frameMs / 1000));
             SculptUiView view;
             view.tool = session.tool();
+            view.mirror = session.mirror();
             view.size = session.size();
             view.sizeMm = level.diameterMm;
             for (int s : ui.offeredSizes())
@@ -384,10 +397,13 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         char title[256];
         std::snprintf(
             title, sizeof title,
-            "vsculpt — %s · size %d (%.1f mm) · zoom %d · %zu skeletons · %zu triangles · "
+            "vsculpt — %s%s%s · size %d (%.1f mm) · zoom %d · %zu skeletons · %zu triangles · "
             "%.1f ms/frame · %s%s%s",
-            toolName(session.tool()), session.size(), level.diameterMm, session.zoom(),
-            session.sculpture().counts().total(), st.triangles, frameMs,
+            toolName(session.tool()),
+            session.mirror() == core::MirrorAxis::None ? "" : " · mirror ",
+            session.mirror() == core::MirrorAxis::None ? "" : core::toString(session.mirror()),
+            session.size(), level.diameterMm, session.zoom(), session.sculpture().counts().total(),
+            st.triangles, frameMs,
             session.projectDir() ? session.projectDir()->filename().c_str() : "no project",
             message.empty() ? "" : " · ", message.c_str());
         viewer->setTitle(title);
@@ -399,6 +415,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         WindowOptions::Report& r = *o.report;
         const Session& s = rig->session();
         r.tool = s.tool();
+        r.mirror = s.mirror();
         r.size = s.size();
         r.zoom = s.zoom();
         r.skeletons = s.sculpture().counts().total();

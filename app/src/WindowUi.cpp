@@ -304,18 +304,24 @@ std::vector<UiAction> sculptUi(UiState& state, const SculptUiView& v, core::Scul
     using ui::button;
     ui::beginUi(state);
     std::vector<UiAction> actions;
-    const char* toolNames[3] = {"add", "carve", "select"};
+    // In ToolKind's order.
+    const char* toolNames[4] = {"add", "carve", "smooth", "select"};
     const int tool = int(v.tool);
     // The status panel, top left.
     const float left = 8 + v.marginPx;
     ImGui::SetNextWindowPos(ImVec2(left, 8), ImGuiCond_Always);
     if (ImGui::Begin("##status", nullptr, ui::kPanel)) {
         ui::rememberWindow(state, "status");
-        const ImVec4 toolColour[3] = {ImVec4(0.45f, 1.0f, 0.5f, 1), ImVec4(1.0f, 0.4f, 0.35f, 1),
-                                      ImVec4(0.45f, 0.65f, 1.0f, 1)};
+        const ImVec4 toolColour[4] = {ImVec4(0.45f, 1.0f, 0.5f, 1), ImVec4(1.0f, 0.4f, 0.35f, 1),
+                                      ImVec4(1.0f, 0.8f, 0.4f, 1), ImVec4(0.45f, 0.65f, 1.0f, 1)};
         ImGui::Text("tool");
         ImGui::SameLine(90);
         ImGui::TextColored(toolColour[tool], "%s", toolNames[tool]);
+        ImGui::Text("mirror");
+        ImGui::SameLine(90);
+        ImGui::Text("%s", v.mirror == core::MirrorAxis::None
+                              ? "off"
+                              : (std::string(core::toString(v.mirror)) + " = 0 plane").c_str());
         ImGui::Text("size");
         ImGui::SameLine(90);
         ImGui::Text("%d  (%.1f mm)", v.size, v.sizeMm);
@@ -345,7 +351,7 @@ std::vector<UiAction> sculptUi(UiState& state, const SculptUiView& v, core::Scul
     if (ImGui::Begin("##palette", nullptr, ui::kPanel)) {
         ui::rememberWindow(state, "palette");
         ImGui::Text("tool");
-        for (int t = 0; t < 3; ++t) {
+        for (int t = 0; t < 4; ++t) {
             ImGui::SameLine(t == 0 ? 50 : 0);
             if (button(state, toolNames[t], t == tool, ""))
                 actions.push_back({std::string("tool_") + toolNames[t]});
@@ -358,6 +364,14 @@ std::vector<UiAction> sculptUi(UiState& state, const SculptUiView& v, core::Scul
         ImGui::SameLine();
         if (button(state, "redo" + ui::keyOf(v.bindings, "redo"), false, "redo"))
             actions.push_back({"redo"});
+        ImGui::Text("mirror");
+        for (core::MirrorAxis m : {core::MirrorAxis::None, core::MirrorAxis::X, core::MirrorAxis::Y,
+                                   core::MirrorAxis::Z}) {
+            ImGui::SameLine(m == core::MirrorAxis::None ? 50 : 0);
+            const std::string name = core::toString(m);
+            if (button(state, name, m == v.mirror, "mirror " + name))
+                actions.push_back({"mirror_" + name});
+        }
         ImGui::Text("size");
         for (size_t i = 0; i < v.offeredSizes.size(); ++i) {
             const auto& [level, mm] = v.offeredSizes[i];

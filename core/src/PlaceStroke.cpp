@@ -12,19 +12,49 @@
 namespace vsculpt::core {
 
 const char* toString(ToolOp op) {
-    return op == ToolOp::Add ? "add" : "carve";
+    return op == ToolOp::Add ? "add" : op == ToolOp::Carve ? "carve" : "smooth";
+}
+
+const char* toString(MirrorAxis axis) {
+    switch (axis) {
+        case MirrorAxis::X:
+            return "x";
+        case MirrorAxis::Y:
+            return "y";
+        case MirrorAxis::Z:
+            return "z";
+        case MirrorAxis::None:
+            break;
+    }
+    return "off";
+}
+
+Vec3 mirrored(const Vec3& p, MirrorAxis axis) {
+    Vec3 q = p;
+    if (axis != MirrorAxis::None) q[int(axis) - 1] = -q[int(axis) - 1];
+    return q;
 }
 
 namespace {
 Vec3 vertexPos(const LatticeCoord& c, double spacing) {
     return Vec3(c.x, c.y, c.z) * spacing;
 }
+
+// Smooth tool (docs/placement.md): each pass moves every weight under the tool this share of
+// the way to the mean of its six lattice neighbours (times the brush profile).
+constexpr double kSmoothStrength = 0.5;
+// A vertex that had no skeleton gets one only when diffusion gives it at least this weight:
+// smoothing must not scatter dust-sized skeletons over the whole tool region.
+constexpr double kSmoothMinNewWeight = 1e-3;
 }  // namespace
 
-StrokeBuilder::StrokeBuilder(Sculpture& sculpture, ToolOp op, int level)
-    : mSculpture(sculpture), mOp(op), mLevel(level) {
+StrokeBuilder::StrokeBuilder(Sculpture& sculpture, ToolOp op, int level, MirrorAxis mirror)
+    : mSculpture(sculpture), mOp(op), mLevel(level), mMirror(mirror) {
     if (level < 1 || level > kLevelCount)
         throw std::invalid_argument("tool level " + std::to_string(level) + " outside 1..7");
+    if (op == ToolOp::Smooth && sculpture.config().placement == PlacementMode::Thesis)
+        throw std::invalid_argument(
+            "the smooth tool needs placement mode \"free\" (thesis mode has unit weights only)");
     const ToolLevel& tl = sculpture.levels().level(level);
     const int n = int(std::ceil(tl.supportMm / tl.spacingMm));
     const double r2 = tl.supportMm * tl.supportMm;
@@ -61,6 +91,7 @@ EditResult StrokeBuilder::addSample(const Vec3& p) {
     }
     const Vec3 a = mLast.value_or(p);
     mLast = p;
+    if (mOp == ToolOp::Smooth) return addSmoothSample(a, p);
 
     const ToolLevels& levels = mSculpture.levels();
     const ToolLevel& tl = levels.level(mLevel);
@@ -71,7 +102,15 @@ EditResult StrokeBuilder::addSample(const Vec3& p) {
 
     EditResult result;
     Aabb changed;
-    for (const SweptVertex& sv : sweptVertices(tl.spacingMm, a, p, radius)) {
+    std::vector<SweptVertex> swept = sweptVertices(tl.spacingMm, a, p, radius);
+    if (mMirror != MirrorAxis::None) {
+        // The mirrored segment in the same pass: each vertex keeps its closest approach to
+        // either segment, so a vertex and its mirror image are decided alike.
+        std::vector<SweptVertex> image =
+            sweptVertices(tl.spacingMm, mirrored(a, mMirror), mirrored(p, mMirror), radius);
+        swept.insert(swept.end(), image.begin(), image.end());
+    }
+    for (const SweptVertex& sv : swept) {
         const std::optional<float> current = store.get(mLevel, sv.coord);
         auto [it, first] = mVisited.try_emplace(sv.coord, Visit{current, sv.lateralMm});
         if (!first) {
@@ -126,14 +165,80 @@ EditResult StrokeBuilder::addSample(const Vec3& p) {
     return result;
 }
 
+EditResult StrokeBuilder::addSmoothSample(const Vec3& a, const Vec3& p) {
+    // Diffusion of the weights on every level up to the tool's, each on its own lattice: the
+    // field is the sum of each level's weights blurred by its kernel, so smoothing the weights
+    // smooths the field, fine detail (on fine levels) included, and a discrete Laplacian keeps
+    // the sum of the weights, hence the clay's volume, nearly unchanged. Everything is decided
+    // from the weights before the stroke, so the result does not depend on sample spacing.
+    const ToolLevels& levels = mSculpture.levels();
+    const double radius = 0.5 * levels.level(mLevel).diameterMm;
+    SkeletonStore& store = mSculpture.store();
+    EditResult result;
+    Aabb changed;
+    double support = 0;
+    for (int level = 1; level <= mLevel; ++level) {
+        const ToolLevel& tl = levels.level(level);
+        support = std::max(support, tl.supportMm);
+        auto& visited = mSmoothVisited[size_t(level - 1)];
+        auto& pre = mSmoothPre[size_t(level - 1)];
+        auto preStroke = [&](const LatticeCoord& c) -> double {
+            const auto it = pre.find(c);
+            return it != pre.end() ? it->second.value_or(0.0f) : store.get(level, c).value_or(0.0f);
+        };
+        std::vector<SweptVertex> swept = sweptVertices(tl.spacingMm, a, p, radius);
+        if (mMirror != MirrorAxis::None) {
+            std::vector<SweptVertex> image =
+                sweptVertices(tl.spacingMm, mirrored(a, mMirror), mirrored(p, mMirror), radius);
+            swept.insert(swept.end(), image.begin(), image.end());
+        }
+        for (const SweptVertex& sv : swept) {
+            auto [it, first] = visited.try_emplace(sv.coord, sv.lateralMm);
+            if (!first) {
+                if (sv.lateralMm >= it->second) continue;
+                it->second = sv.lateralMm;
+            }
+            const double w = preStroke(sv.coord);
+            double neighbours = 0;
+            for (int axis = 0; axis < 3; ++axis)
+                for (int sign = -1; sign <= 1; sign += 2) {
+                    LatticeCoord n = sv.coord;
+                    (axis == 0 ? n.x : axis == 1 ? n.y : n.z) += sign;
+                    neighbours += preStroke(n);
+                }
+            const double step = kSmoothStrength *
+                                strokeProfile(PlacementMode::Free, sv.lateralMm / radius) *
+                                (neighbours / 6.0 - w);
+            const std::optional<float> current = store.get(level, sv.coord);
+            const std::optional<float> before = pre.count(sv.coord) ? pre.at(sv.coord) : current;
+            std::optional<float> after = before;
+            if (before || std::abs(w + step) >= kSmoothMinNewWeight) after = float(w + step);
+            if (after == current) continue;
+            pre.try_emplace(sv.coord, current);
+            if (after)
+                store.set(level, sv.coord, *after);
+            else
+                store.erase(level, sv.coord);
+            mChanges.push_back(SkeletonChange{level, sv.coord, current, after});
+            const Vec3 pos = vertexPos(sv.coord, tl.spacingMm);
+            changed.expand(pos);
+            result.changedPoints.push_back(pos);
+            ++result.changedVertices;
+        }
+    }
+    result.changedRegion = changed.padded(support);
+    result.supportMm = support;
+    return result;
+}
+
 EditResult StrokeBuilder::addSampleWorld(const Vec3& worldPos,
                                          const RigidTransform& worldFromObject) {
     return addSample(worldFromObject.inverse().apply(worldPos));
 }
 
 EditResult applyStroke(Sculpture& sculpture, ToolOp op, int level, std::span<const Vec3> path,
-                       std::vector<SkeletonChange>* changes) {
-    StrokeBuilder stroke(sculpture, op, level);
+                       std::vector<SkeletonChange>* changes, MirrorAxis mirror) {
+    StrokeBuilder stroke(sculpture, op, level, mirror);
     EditResult total;
     for (const Vec3& p : path) {
         const EditResult r = stroke.addSample(p);

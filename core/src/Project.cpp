@@ -245,8 +245,10 @@ std::string changesProblem(const std::vector<SkeletonChange>& changes) {
 
 std::string strokeProblem(const StrokeRecord& r) {
     if (std::string p = levelProblem(r.level); !p.empty()) return p;
-    if (r.op != ToolOp::Add && r.op != ToolOp::Carve)
+    if (r.op != ToolOp::Add && r.op != ToolOp::Carve && r.op != ToolOp::Smooth)
         return "tool operation " + std::to_string(int(r.op)) + " is unknown";
+    if (int(r.mirror) < 0 || int(r.mirror) > 3)
+        return "mirror axis " + std::to_string(int(r.mirror)) + " is unknown";
     if (std::string p = samplesProblem(r.samples); !p.empty()) return p;
     return changesProblem(r.changes);
 }
@@ -256,8 +258,10 @@ std::string recordProblem(const JournalRecord& r) {
     switch (r.op) {
         case JournalOp::Stroke:
             if (std::string p = levelProblem(r.level); !p.empty()) return p;
-            if (r.tool != ToolOp::Add && r.tool != ToolOp::Carve)
+            if (r.tool != ToolOp::Add && r.tool != ToolOp::Carve && r.tool != ToolOp::Smooth)
                 return "tool operation " + std::to_string(int(r.tool)) + " is unknown";
+            if (int(r.mirror) < 0 || int(r.mirror) > 3)
+                return "mirror axis " + std::to_string(int(r.mirror)) + " is unknown";
             return samplesProblem(r.samples);
         case JournalOp::Solid:
             if (std::string p = levelProblem(r.solidLevel); !p.empty()) return "solid " + p;
@@ -274,8 +278,12 @@ std::string recordProblem(const JournalRecord& r) {
 
 // ------------------------------------------------------------------------------ encoding
 
+// The operation byte: bits 0-3 the operation (0 add, 1 carve, 2 solid, 3 smooth), bits 4-5
+// the stroke's mirror axis (0 none, 1 x, 2 y, 3 z). Files written before the smooth and
+// mirror tools only have 0..2.
 void encodeStroke(Writer& w, const StrokeRecord& r) {
-    w.pod(uint8_t(r.solid ? 2 : r.op == ToolOp::Add ? 0 : 1));
+    const uint8_t op = r.solid ? 2 : r.op == ToolOp::Add ? 0 : r.op == ToolOp::Carve ? 1 : 3;
+    w.pod(uint8_t(op | (uint8_t(r.mirror) << 4)));
     w.pod(uint8_t(r.level));
     w.pod(uint32_t(r.samples.size()));
     for (const Vec3& p : r.samples)
@@ -295,9 +303,13 @@ void encodeStroke(Writer& w, const StrokeRecord& r) {
 /// Decodes one stroke or solid and checks its values; DecodeError says which field is bad.
 StrokeRecord decodeStroke(Reader& r) {
     StrokeRecord s;
-    const uint8_t op = r.pod<uint8_t>();
-    if (op > 2) r.fail("tool operation " + std::to_string(op) + " is unknown");
-    s.op = op == 1 ? ToolOp::Carve : ToolOp::Add;
+    const uint8_t opByte = r.pod<uint8_t>();
+    const uint8_t op = opByte & 0x0F, mirror = opByte >> 4;
+    if (op > 3) r.fail("tool operation " + std::to_string(op) + " is unknown");
+    if (mirror > 3) r.fail("mirror axis " + std::to_string(mirror) + " is unknown");
+    if (op == 2 && mirror != 0) r.fail("a solid with a mirror axis");
+    s.op = op == 1 ? ToolOp::Carve : op == 3 ? ToolOp::Smooth : ToolOp::Add;
+    s.mirror = MirrorAxis(mirror);
     s.solid = op == 2;
     s.level = r.pod<uint8_t>();
     if (std::string p = levelProblem(s.level); !p.empty()) r.fail(p);
@@ -354,6 +366,7 @@ void decodeRecordBody(Reader& r, JournalRecord& rec) {
                 r.fail("a stroke with " + std::to_string(s.changes.size()) +
                        " vertex changes (only solids have them)");
             rec.tool = s.op;
+            rec.mirror = s.mirror;
             rec.level = s.level;
             rec.samples = std::move(s.samples);
         }
@@ -368,6 +381,7 @@ std::string encodeRecord(const JournalRecord& rec) {
     if (rec.op == JournalOp::Stroke) {
         StrokeRecord s;
         s.op = rec.tool;
+        s.mirror = rec.mirror;
         s.level = rec.level;
         s.samples = rec.samples;
         encodeStroke(payload, s);
@@ -827,9 +841,11 @@ Aabb applyJournalRecord(Sculpture& sculpture, History& history, const JournalRec
         case JournalOp::Stroke: {
             StrokeRecord rec;
             rec.op = r.tool;
+            rec.mirror = r.mirror;
             rec.level = r.level;
             rec.samples = r.samples;
-            const EditResult e = applyStroke(sculpture, r.tool, r.level, r.samples, &rec.changes);
+            const EditResult e =
+                applyStroke(sculpture, r.tool, r.level, r.samples, &rec.changes, r.mirror);
             history.push(std::move(rec));
             return e.changedRegion;
         }

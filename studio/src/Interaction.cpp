@@ -16,12 +16,23 @@ void Interaction::cycleTool() {
             mStudio.setTool(ToolKind::Carve);
             break;
         case ToolKind::Carve:
+            // Thesis placement has no smooth tool (unit weights): the cycle skips it there.
+            mStudio.setTool(session().sculpture().config().placement == PlacementMode::Free
+                                ? ToolKind::Smooth
+                                : ToolKind::Select);
+            break;
+        case ToolKind::Smooth:
             mStudio.setTool(ToolKind::Select);
             break;
         case ToolKind::Select:
             mStudio.setTool(ToolKind::Add);
             break;
     }
+}
+
+void Interaction::cycleMirror() {
+    const MirrorAxis next[] = {MirrorAxis::X, MirrorAxis::Y, MirrorAxis::Z, MirrorAxis::None};
+    mStudio.setMirror(next[int(session().mirror())]);
 }
 
 std::vector<int> Interaction::offeredSizes() const {

@@ -358,16 +358,31 @@ Script parseScript(std::string_view text, const std::string& source) {
                        " argument(s))");
         };
         if (cmd == "tool") {
-            arity(1, 1, "one of add, carve, select");
+            arity(1, 1, "one of add, carve, smooth, select");
             c.kind = ScriptCommand::Kind::Tool;
             if (w[1] == "add")
                 c.tool = ToolKind::Add;
             else if (w[1] == "carve")
                 c.tool = ToolKind::Carve;
+            else if (w[1] == "smooth")
+                c.tool = ToolKind::Smooth;
             else if (w[1] == "select")
                 c.tool = ToolKind::Select;
             else
-                p.fail("unknown tool '" + w[1] + "' (use add, carve or select)");
+                p.fail("unknown tool '" + w[1] + "' (use add, carve, smooth or select)");
+        } else if (cmd == "mirror") {
+            arity(1, 1, "one of x, y, z, off");
+            c.kind = ScriptCommand::Kind::Mirror;
+            if (w[1] == "x")
+                c.mirror = core::MirrorAxis::X;
+            else if (w[1] == "y")
+                c.mirror = core::MirrorAxis::Y;
+            else if (w[1] == "z")
+                c.mirror = core::MirrorAxis::Z;
+            else if (w[1] == "off")
+                c.mirror = core::MirrorAxis::None;
+            else
+                p.fail("unknown mirror plane '" + w[1] + "' (use x, y, z or off)");
         } else if (cmd == "size") {
             arity(1, 1, "a tool level 1..7");
             c.kind = ScriptCommand::Kind::Size;
@@ -421,7 +436,8 @@ Script parseScript(std::string_view text, const std::string& source) {
         } else {
             p.fail(
                 "unknown command '" + cmd +
-                "' (commands: tool, size, zoom, object, space, stroke, import, undo, redo, save; "
+                "' (commands: tool, size, zoom, object, space, stroke, mirror, import, undo, redo, "
+                "save; "
                 "sketch: page, mode, kind, pen, endgroup, tick, canvas, select, move, scale, "
                 "delete, role, reuse, solid, model-line)");
         }

@@ -125,6 +125,9 @@ bool Session::apply(const ScriptCommand& c) {
         case K::Tool:
             setTool(c.tool);
             return false;
+        case K::Mirror:
+            setMirror(c.mirror);
+            return false;
         case K::Size:
             setSize(c.value);
             return false;
@@ -197,11 +200,19 @@ void Session::journal(const JournalRecord& r) {
 void Session::beginStroke() {
     if (mStroke) throw SessionError("a stroke is already in progress");
     if (mTool == ToolKind::Select)
-        throw SessionError("stroke needs the add or carve tool (the select tool is active)");
-    const ToolOp op = mTool == ToolKind::Add ? ToolOp::Add : ToolOp::Carve;
-    mStroke = std::make_unique<StrokeBuilder>(*mSculpture, op, mSize);
+        throw SessionError(
+            "stroke needs the add, carve or smooth tool (the select tool is active)");
+    const ToolOp op = mTool == ToolKind::Add     ? ToolOp::Add
+                      : mTool == ToolKind::Carve ? ToolOp::Carve
+                                                 : ToolOp::Smooth;
+    try {
+        mStroke = std::make_unique<StrokeBuilder>(*mSculpture, op, mSize, mMirror);
+    } catch (const std::invalid_argument& e) {
+        throw SessionError(e.what());  // smooth in thesis mode: the user's choice to change
+    }
     mStrokeRecord = StrokeRecord{};
     mStrokeRecord.op = op;
+    mStrokeRecord.mirror = mMirror;
     mStrokeRecord.level = mSize;
 }
 
@@ -243,6 +254,7 @@ void Session::endStroke() {
     j.sequence = mSequence + 1;
     j.op = JournalOp::Stroke;
     j.tool = mStrokeRecord.op;
+    j.mirror = mStrokeRecord.mirror;
     j.level = mStrokeRecord.level;
     j.samples = mStrokeRecord.samples;
     try {

@@ -233,6 +233,9 @@ size_t Studio::addSurfaceLines(std::vector<std::vector<core::Vec3>> lines) {
 void Studio::setTool(ToolKind tool) {
     sculpt([&](Session& s) { s.setTool(tool); });
 }
+void Studio::setMirror(core::MirrorAxis axis) {
+    sculpt([&](Session& s) { s.setMirror(axis); });
+}
 void Studio::setSize(int level) {
     sculpt([&](Session& s) { s.setSize(level); });
 }

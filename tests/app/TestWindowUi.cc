@@ -216,6 +216,20 @@ TEST(WindowUi, ClicksOnTheUiChangeSizeToolAndZoomWithoutSculpting) {
     EXPECT_EQ(report.skeletons, 1u);  // the initial sphere only: nothing sculpted
     EXPECT_EQ(report.steps, 0u);
 
+    // The smooth tool and a mirror plane, from the palette.
+    app::WindowOptions m = scratchWindow(14);
+    app::WindowOptions::Report mirrored;
+    m.report = &mirrored;
+    app::UiRect smooth, mirrorX;
+    m.onFrame = [&](size_t frame, const app::UiState& ui, std::vector<InputEvent>& inject) {
+        clickOn("button:smooth", 2, frame, ui, inject, smooth);
+        clickOn("button:mirror x", 6, frame, ui, inject, mirrorX);
+    };
+    ASSERT_EQ(app::runWindow(m, out, err), 0) << err.str();
+    EXPECT_EQ(mirrored.tool, studio::ToolKind::Smooth);
+    EXPECT_EQ(mirrored.mirror, core::MirrorAxis::X);
+    EXPECT_EQ(mirrored.steps, 0u);
+
     app::WindowOptions z = scratchWindow(8);
     app::WindowOptions::Report zoomed;
     z.report = &zoomed;

@@ -17,13 +17,15 @@ core::SculptConfig config() {
     return cfg;
 }
 
-TEST(Interaction, RightButtonCyclesAddCarveSelect) {
+TEST(Interaction, RightButtonCyclesAddCarveSmoothSelect) {
     Studio studio(config());
     const Session& s = studio.session();
     Interaction ui(studio);
     EXPECT_EQ(s.tool(), ToolKind::Add);
     ui.cycleTool();
     EXPECT_EQ(s.tool(), ToolKind::Carve);
+    ui.cycleTool();
+    EXPECT_EQ(s.tool(), ToolKind::Smooth);  // the smooth tool (issue #13) comes before select
     ui.cycleTool();
     EXPECT_EQ(s.tool(), ToolKind::Select);
     ui.cycleTool();
@@ -48,8 +50,7 @@ TEST(Interaction, SelectToolZoomsIntoTheRegionUnderIt) {
     Studio studio(config());
     const Session& s = studio.session();
     Interaction ui(studio);
-    ui.cycleTool();
-    ui.cycleTool();  // select
+    studio.setTool(ToolKind::Select);
     const Vec3 under(5, -3, 30);
     for (int z = 2; z <= 5; ++z) {
         ui.step(under);
@@ -99,8 +100,7 @@ TEST(Interaction, EngagedMovesMakeOneUndoStepPerEngagement) {
     ui.setEngaged(false);
     EXPECT_EQ(s.history().done().size(), 2u);
     EXPECT_EQ(s.history().done()[0].samples.size(), 10u);
-    ui.cycleTool();
-    ui.cycleTool();  // select: moving never edits
+    studio.setTool(ToolKind::Select);  // select: moving never edits
     ui.setEngaged(true);
     ui.moveTool(Vec3(0, 0, 30));
     ui.setEngaged(false);

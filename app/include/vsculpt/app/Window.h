@@ -42,6 +42,7 @@ struct WindowOptions {
     render::Image* lastFrame = nullptr;
     struct Report {
         studio::ToolKind tool = studio::ToolKind::Add;
+        core::MirrorAxis mirror = core::MirrorAxis::None;
         int size = 0, zoom = 0;
         size_t skeletons = 0, steps = 0;
         std::string message;

@@ -75,6 +75,7 @@ struct UiState {
 /// What the sculpting window's panels show.
 struct SculptUiView {
     studio::ToolKind tool = studio::ToolKind::Add;
+    core::MirrorAxis mirror = core::MirrorAxis::None;
     int size = 0;
     double sizeMm = 0;
     std::vector<std::pair<int, double>> offeredSizes;  ///< level, diameter mm (largest first)

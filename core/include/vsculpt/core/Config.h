@@ -66,7 +66,8 @@ struct InteractionConfig {
         {"overview", "O"},     {"undo", "U"},     {"redo", "R"},         {"quit", "ESCAPE"},
         {"size_1", "1"},       {"size_2", "2"},   {"size_3", "3"},       {"size_4", "4"},
         {"size_5", "5"},       {"size_6", "6"},   {"size_7", "7"},       {"save", "F5"},
-        {"save_as", "F6"},     {"export", "F7"},  {"new_project", "F8"}, {"help", "F1"}};
+        {"save_as", "F6"},     {"export", "F7"},  {"new_project", "F8"}, {"help", "F1"},
+        {"cycle_mirror", "M"}};
     /// The sketch window's keys, action -> key name (the same names).
     std::map<std::string, std::string> sketchBindings{{"undo", "U"},
                                                       {"redo", "R"},

@@ -16,6 +16,7 @@ class Sculpture;
 /// One stroke: what the user did (replayable) and what it changed (undoable).
 struct StrokeRecord {
     ToolOp op = ToolOp::Add;
+    MirrorAxis mirror = MirrorAxis::None;  ///< the stroke was also applied mirrored
     int level = 4;
     std::vector<Vec3> samples;  ///< object-space tool centres, mm (empty for a solid)
     std::vector<SkeletonChange> changes;

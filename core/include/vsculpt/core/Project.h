@@ -56,11 +56,12 @@ enum class JournalOp : uint8_t { Stroke = 1, Undo = 2, Redo = 3, Solid = 4 };
 struct JournalRecord {
     uint64_t sequence = 0;  ///< 1, 2, 3, ... over the project's life
     JournalOp op = JournalOp::Stroke;
-    ToolOp tool = ToolOp::Add;            ///< strokes only
-    int level = 0;                        ///< strokes only
-    std::vector<Vec3> samples;            ///< strokes only: object-space tool centres, mm
-    int solidLevel = 0;                   ///< solids only: the lattice level
-    std::vector<SkeletonChange> changes;  ///< solids only: the vertices' after-states
+    ToolOp tool = ToolOp::Add;             ///< strokes only
+    MirrorAxis mirror = MirrorAxis::None;  ///< strokes only
+    int level = 0;                         ///< strokes only
+    std::vector<Vec3> samples;             ///< strokes only: object-space tool centres, mm
+    int solidLevel = 0;                    ///< solids only: the lattice level
+    std::vector<SkeletonChange> changes;   ///< solids only: the vertices' after-states
 };
 
 struct JournalContents {

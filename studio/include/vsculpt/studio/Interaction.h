@@ -22,8 +22,10 @@ class Interaction {
     /// @param alwaysEngaged the thesis's behaviour: add/carve act whenever the tool moves
     explicit Interaction(Studio& studio, bool alwaysEngaged = false);
 
-    /// Right button: add -> carve -> select -> add.
+    /// Right button: add -> carve -> smooth -> select -> add (no smooth in thesis placement).
     void cycleTool();
+    /// Mirror symmetry: off -> x -> y -> z -> off (Session::setMirror).
+    void cycleMirror();
     /// Left button. Add/carve: the next smaller offered size, wrapping to the largest.
     /// Select: zoom one level into the region around `toolPos` (object space); at the
     /// deepest zoom it does nothing.

@@ -8,6 +8,7 @@
 
 #include "vsculpt/core/Geometry.h"
 #include "vsculpt/core/ImportMesh.h"
+#include "vsculpt/core/PlaceStroke.h"
 
 #include <filesystem>
 #include <optional>
@@ -24,7 +25,7 @@ class ScriptError : public std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-enum class ToolKind { Add, Carve, Select };
+enum class ToolKind { Add, Carve, Smooth, Select };
 
 /// One pen sample of a scripted sketch stroke (docs/playback.md, "Sketch commands"): canvas
 /// mm (whatever the page's view), optional pressure 0..1 and time in seconds.
@@ -68,10 +69,24 @@ struct SketchCommand {
 };
 
 struct ScriptCommand {
-    enum class Kind { Tool, Size, Zoom, Object, Space, Stroke, Undo, Redo, Save, Sketch, Import };
+    enum class Kind {
+        Tool,
+        Size,
+        Zoom,
+        Object,
+        Space,
+        Stroke,
+        Undo,
+        Redo,
+        Save,
+        Sketch,
+        Import,
+        Mirror
+    };
     Kind kind = Kind::Undo;
     int line = 0;  ///< where the command starts
     ToolKind tool = ToolKind::Add;
+    core::MirrorAxis mirror = core::MirrorAxis::None;  ///< mirror
     int value = 0;          ///< size K / zoom Z / import level K (0: from the mesh's size)
     bool hasPoint = false;  ///< zoom with a centre
     core::Vec3 point{0.0};

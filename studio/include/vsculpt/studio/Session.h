@@ -65,6 +65,13 @@ class Session {
         mTool = tool;
     }
     ToolKind tool() const { return mTool; }
+    /// Mirror symmetry for the following strokes (core::MirrorAxis: the object-space plane
+    /// x = 0, y = 0 or z = 0); changing it ends a stroke in progress.
+    void setMirror(core::MirrorAxis axis) {
+        endStroke();
+        mMirror = axis;
+    }
+    core::MirrorAxis mirror() const { return mMirror; }
     /// Throws SessionError when level is not offered at the current zoom.
     void setSize(int level);
     int size() const { return mSize; }
@@ -137,6 +144,7 @@ class Session {
     std::unique_ptr<core::Polygonizer> mView;
     core::History mHistory;
     ToolKind mTool = ToolKind::Add;
+    core::MirrorAxis mMirror = core::MirrorAxis::None;
     int mSize = 6;
     int mZoom = 1;
     core::Vec3 mZoomCenter{0.0};

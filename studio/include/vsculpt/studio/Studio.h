@@ -65,6 +65,7 @@ class Studio {
 
     // Tool state (Session.h). Changing tool, size or zoom ends a stroke in progress.
     void setTool(ToolKind tool);
+    void setMirror(core::MirrorAxis axis);
     void setSize(int level);
     void setZoom(int zoom, const core::Vec3& center);
     void setObjectPose(const core::RigidTransform& worldFromObject);

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include <spdlog/spdlog.h>
+
 namespace vsculpt::app {
 
 std::pair<int, int> parseImageSize(const std::string& text, const std::string& option) {
@@ -29,6 +31,21 @@ void requirePngPath(const std::filesystem::path& path, const std::string& option
     if (ext != ".png")
         throw std::invalid_argument(option + " " + path.string() +
                                     ": images are written as PNG; name the file .png");
+}
+
+bool keepLastFrame(render::Viewer& viewer, const std::string& shotPath, render::Image* lastFrame) {
+    if (shotPath.empty() && !lastFrame) return true;
+    const render::Image img = viewer.readFrame();
+    if (lastFrame) *lastFrame = img;
+    if (shotPath.empty()) return true;
+    try {
+        render::writePng(img, shotPath);
+        spdlog::info("wrote {}", shotPath);
+        return true;
+    } catch (const std::exception& e) {
+        spdlog::error("{}", e.what());
+        return false;
+    }
 }
 
 }  // namespace vsculpt::app

@@ -378,19 +378,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
                                                    lens, uiLayer ? &uiImage : nullptr);
         ++frame;
         const bool last = o.frames > 0 && frame >= size_t(o.frames);
-        if (last && (!o.shotPath.empty() || o.lastFrame)) {
-            const render::Image img = viewer->readFrame();
-            if (o.lastFrame) *o.lastFrame = img;
-            if (!o.shotPath.empty()) {
-                try {
-                    render::writePng(img, o.shotPath);
-                    spdlog::info("wrote {}", o.shotPath);
-                } catch (const std::exception& e) {
-                    spdlog::error("{}", e.what());
-                    return 1;
-                }
-            }
-        }
+        if (last && !keepLastFrame(*viewer, o.shotPath, o.lastFrame)) return 1;
         viewer->swap();
         frameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                       .count();

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/core/ExportMesh.h"
 
+#include "VdbMesh.h"
 #include "vsculpt/core/ExportDxf.h"
 #include "vsculpt/core/WriteFileAtomically.h"
 
@@ -234,16 +235,10 @@ class VdbMemoryArchive : public openvdb::io::Archive {
 };
 
 std::string writeVdb(const Mesh& m, const ExportOptions& o, const ExportFrame& f) {
-    static std::once_flag once;
-    std::call_once(once, [] { openvdb::initialize(); });
+    initializeOpenVdb();
     const auto xform =
         openvdb::math::Transform::createLinearTransform(o.voxelSizeMm / mmPerUnit(f.units));
-    std::vector<openvdb::Vec3s> points;
-    std::vector<openvdb::Vec3I> tris;
-    for (const Vec3& v : m.positions)  // meshToLevelSet takes world-space points
-        points.emplace_back(float(v.x), float(v.y), float(v.z));
-    for (size_t t = 0; t < m.triangleCount(); ++t)
-        tris.emplace_back(m.indices[3 * t], m.indices[3 * t + 1], m.indices[3 * t + 2]);
+    const auto [points, tris] = toVdbMesh(m);  // meshToLevelSet takes world-space points
     openvdb::FloatGrid::Ptr grid = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(
         *xform, points, tris, float(o.narrowBandVoxels));
     grid->setName("sculpture");

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/core/ImportMesh.h"
 
+#include "VdbMesh.h"
 #include "vsculpt/core/PlaceSolid.h"
 #include "vsculpt/core/Project.h"
 #include "vsculpt/core/ToolLevels.h"
@@ -379,17 +380,9 @@ Mesh fromVdb(const std::vector<openvdb::Vec3s>& points, const std::vector<openvd
 /// creases come out rounded to about gapMm; where the outside leaks in through a wider hole
 /// only a thin shell is left, which the shrinking removes (the caller refuses an empty result).
 Mesh repairByClosing(const Mesh& m, double voxelMm, double gapMm) {
-    static std::once_flag once;
-    std::call_once(once, [] { openvdb::initialize(); });
+    initializeOpenVdb();
     const auto xform = openvdb::math::Transform::createLinearTransform(voxelMm);
-    std::vector<openvdb::Vec3s> points;
-    points.reserve(m.positions.size());
-    for (const Vec3& p : m.positions)
-        points.emplace_back(float(p.x), float(p.y), float(p.z));
-    std::vector<openvdb::Vec3I> triangles;
-    triangles.reserve(m.triangleCount());
-    for (size_t t = 0; t < m.triangleCount(); ++t)
-        triangles.emplace_back(m.indices[3 * t], m.indices[3 * t + 1], m.indices[3 * t + 2]);
+    const auto [points, triangles] = toVdbMesh(m);
     const float band = float(gapMm / voxelMm + 2);
     const openvdb::FloatGrid::Ptr distance =
         openvdb::tools::meshToUnsignedDistanceField<openvdb::FloatGrid>(*xform, points, triangles,

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/core/PlaceSolid.h"
 
+#include "VdbMesh.h"
 #include "vsculpt/core/EvalField.h"
 #include "vsculpt/core/Sculpture.h"
 
@@ -263,18 +264,10 @@ SolidPlacement placeSolid(Sculpture& sculpture, const Mesh& solid, int level) {
     // Signed distance at every lattice vertex: OpenVDB's mesh-to-volume on a grid whose voxel
     // centres are this level's lattice vertices (index i <-> i * h). Beyond the narrow band the
     // sign is all that matters, and the flood fill supplies it.
-    static std::once_flag once;
-    std::call_once(once, [] { openvdb::initialize(); });
+    initializeOpenVdb();
     const auto xform = openvdb::math::Transform::createLinearTransform(h);
-    std::vector<openvdb::Vec3s> points;
-    points.reserve(solid.positions.size());
-    for (const Vec3& p : solid.positions)
-        points.emplace_back(float(p.x), float(p.y), float(p.z));
-    std::vector<openvdb::Vec3I> tris;
-    tris.reserve(solid.triangleCount());
     // The sign comes from OpenVDB's inside/outside flood fill, not from the winding.
-    for (size_t t = 0; t < solid.triangleCount(); ++t)
-        tris.emplace_back(solid.indices[3 * t], solid.indices[3 * t + 1], solid.indices[3 * t + 2]);
+    const auto [points, tris] = toVdbMesh(solid);
     const float band =
         float(std::ceil(outside + std::abs(cal.insetOverSpacing) + cal.rampOverSpacing) + 2.0);
     const openvdb::FloatGrid::Ptr sdf =

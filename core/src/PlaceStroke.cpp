@@ -40,6 +40,20 @@ Vec3 vertexPos(const LatticeCoord& c, double spacing) {
     return Vec3(c.x, c.y, c.z) * spacing;
 }
 
+// The lattice vertices swept by the segment a-p and, with a mirror plane, by its mirror image
+// too, in the same pass: each vertex keeps its closest approach to either segment (callers
+// take the smallest lateral distance), so a vertex and its mirror image are decided alike.
+std::vector<SweptVertex> sweptWithMirror(double spacing, const Vec3& a, const Vec3& p,
+                                         double radius, MirrorAxis mirror) {
+    std::vector<SweptVertex> swept = sweptVertices(spacing, a, p, radius);
+    if (mirror != MirrorAxis::None) {
+        const std::vector<SweptVertex> image =
+            sweptVertices(spacing, mirrored(a, mirror), mirrored(p, mirror), radius);
+        swept.insert(swept.end(), image.begin(), image.end());
+    }
+    return swept;
+}
+
 // Smooth tool (docs/placement.md): each pass moves every weight under the tool this share of
 // the way to the mean of its six lattice neighbours (times the brush profile).
 constexpr double kSmoothStrength = 0.5;
@@ -102,15 +116,7 @@ EditResult StrokeBuilder::addSample(const Vec3& p) {
 
     EditResult result;
     Aabb changed;
-    std::vector<SweptVertex> swept = sweptVertices(tl.spacingMm, a, p, radius);
-    if (mMirror != MirrorAxis::None) {
-        // The mirrored segment in the same pass: each vertex keeps its closest approach to
-        // either segment, so a vertex and its mirror image are decided alike.
-        std::vector<SweptVertex> image =
-            sweptVertices(tl.spacingMm, mirrored(a, mMirror), mirrored(p, mMirror), radius);
-        swept.insert(swept.end(), image.begin(), image.end());
-    }
-    for (const SweptVertex& sv : swept) {
+    for (const SweptVertex& sv : sweptWithMirror(tl.spacingMm, a, p, radius, mMirror)) {
         const std::optional<float> current = store.get(mLevel, sv.coord);
         auto [it, first] = mVisited.try_emplace(sv.coord, Visit{current, sv.lateralMm});
         if (!first) {
@@ -186,13 +192,7 @@ EditResult StrokeBuilder::addSmoothSample(const Vec3& a, const Vec3& p) {
             const auto it = pre.find(c);
             return it != pre.end() ? it->second.value_or(0.0f) : store.get(level, c).value_or(0.0f);
         };
-        std::vector<SweptVertex> swept = sweptVertices(tl.spacingMm, a, p, radius);
-        if (mMirror != MirrorAxis::None) {
-            std::vector<SweptVertex> image =
-                sweptVertices(tl.spacingMm, mirrored(a, mMirror), mirrored(p, mMirror), radius);
-            swept.insert(swept.end(), image.begin(), image.end());
-        }
-        for (const SweptVertex& sv : swept) {
+        for (const SweptVertex& sv : sweptWithMirror(tl.spacingMm, a, p, radius, mMirror)) {
             auto [it, first] = visited.try_emplace(sv.coord, sv.lateralMm);
             if (!first) {
                 if (sv.lateralMm >= it->second) continue;

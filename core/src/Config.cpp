@@ -18,7 +18,7 @@ namespace vsculpt::core {
 using nlohmann::json;
 
 const char* toString(PlacementMode m) {
-    return m == PlacementMode::Thesis ? "thesis" : "free";
+    return m == PlacementMode::Thesis ? "thesis" : m == PlacementMode::Swept ? "swept" : "free";
 }
 
 namespace {
@@ -360,8 +360,11 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
             cfg.placement = PlacementMode::Thesis;
         else if (m == "free")
             cfg.placement = PlacementMode::Free;
+        else if (m == "swept")
+            cfg.placement = PlacementMode::Swept;
         else
-            placement.fail("placement.mode", "expected \"thesis\" or \"free\", got " + v->dump());
+            placement.fail("placement.mode",
+                           "expected \"thesis\", \"free\" or \"swept\", got " + v->dump());
     }
     placement.rejectUnknown();
 

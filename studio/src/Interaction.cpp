@@ -17,7 +17,7 @@ void Interaction::cycleTool() {
             break;
         case ToolKind::Carve:
             // Thesis placement has no smooth tool (unit weights): the cycle skips it there.
-            mStudio.setTool(session().sculpture().config().placement == PlacementMode::Free
+            mStudio.setTool(session().sculpture().config().placement != PlacementMode::Thesis
                                 ? ToolKind::Smooth
                                 : ToolKind::Select);
             break;

@@ -90,6 +90,21 @@ TEST_P(Mirror, OneUndoRemovesBothHalves) {
 INSTANTIATE_TEST_SUITE_P(Planes, Mirror,
                          ::testing::Values(MirrorAxis::X, MirrorAxis::Y, MirrorAxis::Z));
 
+TEST(Mirror, EveryPlacementModeKeepsTheSymmetry) {
+    for (PlacementMode mode : {PlacementMode::Thesis, PlacementMode::Swept}) {
+        SculptConfig cfg;
+        cfg.placement = mode;
+        Sculpture s(cfg);
+        applyStroke(s, ToolOp::Add, 5, path({{18, -30, 22}, {30, -18, 30}, {36, 4, 26}}), nullptr,
+                    MirrorAxis::X);
+        applyStroke(s, ToolOp::Carve, 4, path({{-12, -41, 6}, {3, -42, 9}, {14, -41, 12}}), nullptr,
+                    MirrorAxis::X);
+        EXPECT_LE(mirrorDefect(s, MirrorAxis::X), 1e-6) << toString(mode);
+        FieldProbe f(s);
+        EXPECT_GT(f.value(Vec3(-30, -18, 30)), 0) << toString(mode);  // the mirrored add
+    }
+}
+
 TEST(Mirror, TheMeshIsMirrorSymmetric) {
     SculptConfig cfg;
     Sculpture s(cfg);

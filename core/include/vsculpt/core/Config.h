@@ -27,6 +27,10 @@ inline constexpr int kReferenceLevel = 4;
 enum class PlacementMode {
     Thesis,  ///< the thesis's stacking rules, including its "cannot re-add where carved" limit
     Free,    ///< weights sized to what is there: carve then add works at any size combination
+    /// The swept tool's volume added or removed: target field changes from the material's own
+    /// slope, deconvolved into weights (docs/placement.md). Opt-in while its extra skeletons
+    /// cost edit latency (issue #13, #14).
+    Swept,
 };
 
 const char* toString(PlacementMode m);

@@ -4,12 +4,14 @@
 /// the sculpture's placement mode (docs/placement.md).
 ///
 /// A stroke is the sequence of tool-centre samples between pressing and releasing the tool.
-/// Every lattice vertex inside the tool sphere swept between consecutive samples is visited
-/// once per stroke, so fast strokes leave no gaps. Decisions that depend on the field use the
-/// field as it was before the stroke began, so the result does not depend on sample spacing.
+/// Every lattice vertex inside the tool sphere swept between consecutive samples (swept mode:
+/// inside that sphere grown by kSweptMarginOverRadius) is visited, so fast strokes leave no
+/// gaps. Decisions that depend on the field use the field as it was before the stroke began,
+/// so the result does not depend on sample spacing.
 #pragma once
 
 #include "vsculpt/core/Config.h"
+#include "vsculpt/core/EvalField.h"
 #include "vsculpt/core/Geometry.h"
 
 #include <array>
@@ -25,7 +27,7 @@ class Sculpture;
 class FieldProbe;
 
 /// Add: union with the swept tool. Carve: subtract it. Smooth: relax the surface under the
-/// tool toward its local average (free placement mode only; docs/placement.md).
+/// tool toward its local average (not in thesis placement mode; docs/placement.md).
 enum class ToolOp { Add, Carve, Smooth };
 const char* toString(ToolOp op);
 
@@ -37,6 +39,10 @@ enum class MirrorAxis { None, X, Y, Z };
 const char* toString(MirrorAxis axis);
 /// `p` mirrored across the axis's plane (unchanged for None).
 Vec3 mirrored(const Vec3& p, MirrorAxis axis);
+
+/// Swept mode: a stroke changes the field, and places skeletons, within this many tool radii
+/// beyond the swept tool's surface (docs/placement.md).
+inline constexpr double kSweptMarginOverRadius = 1.0;
 
 /// One vertex's state before and after an edit (nullopt = empty): enough to undo or redo it.
 struct SkeletonChange {
@@ -71,13 +77,22 @@ class StrokeBuilder {
     /// Same for a world-space sample: objectPos = inverse(worldFromObject) * worldPos.
     EditResult addSampleWorld(const Vec3& worldPos, const RigidTransform& worldFromObject);
 
-    /// Every vertex change so far, in the order applied.
+    /// Every vertex change so far, one per vertex (before: the state before the stroke,
+    /// after: the current one).
     const std::vector<SkeletonChange>& changes() const { return mChanges; }
     std::vector<SkeletonChange> takeChanges() { return std::move(mChanges); }
 
   private:
     double preStrokeRawSum(const LatticeCoord& v, const Vec3& pos);
+    /// The field (without c) and its gradient before the stroke began.
+    FieldSample preStrokeSample(const LatticeCoord& v, const Vec3& pos);
+    EditResult addSampleThesis(const Vec3& a, const Vec3& p);
+    EditResult addSampleFree(const Vec3& a, const Vec3& p);
+    EditResult addSampleSwept(const Vec3& a, const Vec3& p);
     EditResult addSmoothSample(const Vec3& a, const Vec3& p);
+    /// Sets a vertex's weight (or empties it) and records the change, one per vertex.
+    void setWeight(const LatticeCoord& v, const std::optional<float>& current,
+                   const std::optional<float>& after);
 
     Sculpture& mSculpture;
     ToolOp mOp;
@@ -88,12 +103,28 @@ class StrokeBuilder {
         std::optional<float> preStroke;  // the vertex's state before this stroke
         double lateral;                  // closest approach of the stroke so far, mm
     };
-    // A vertex is decided again only when the path comes closer to it (free mode weights
-    // depend on that distance); decisions always start from the pre-stroke state.
+    // Thesis: a vertex is decided once. Free: a vertex is decided again when the path comes
+    // closer to it, always from the pre-stroke state (its weight depends on that distance).
     std::unordered_map<LatticeCoord, Visit, LatticeCoordHash> mVisited;
     std::unordered_map<LatticeCoord, float, LatticeCoordHash> mDeltas;  // weight change per vertex
     std::vector<LatticeCoord> mStencil;  // lattice offsets within the level's support radius
     std::vector<SkeletonChange> mChanges;
+    std::unordered_map<LatticeCoord, size_t, LatticeCoordHash> mChangeIndex;  // into mChanges
+
+    // Swept mode (docs/placement.md): each vertex near the path gets a target change of the
+    // field, decided from the pre-stroke field; weights are the deconvolved target changes.
+    struct Target {
+        double phi = 0;   // pre-stroke field without c
+        double grad = 0;  // |grad| of the pre-stroke field, per mm
+        double lateral = 0;
+        double change = 0;  // target change of the field at the vertex
+    };
+    std::unordered_map<LatticeCoord, Target, LatticeCoordHash> mTargets;
+    struct Tap {
+        LatticeCoord offset;
+        double weight;
+    };
+    std::vector<Tap> mDeconvolve;  // weight(v) = sum of tap.weight * change(v - tap.offset)
     std::unique_ptr<FieldProbe> mProbe;
     // Smooth: per level (1..7), each visited vertex's closest approach and the pre-stroke
     // state of every vertex the stroke changed.

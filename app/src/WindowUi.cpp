@@ -85,6 +85,9 @@ void projectButtons(UiState& state, const std::map<std::string, std::string>* bi
         actions.push_back({"open_save_as_dialog"});
     ImGui::SameLine();
     if (button(state, "export...", false, "export...")) actions.push_back({"open_export_dialog"});
+    ImGui::SameLine();
+    if (button(state, "import mesh...", false, "import mesh..."))
+        actions.push_back({"open_import_dialog"});
     if (button(state, "recent...", false, "recent...")) actions.push_back({"open_recent"});
     ImGui::SameLine();
     if (button(state, "new project" + keyOf(bindings, "new_project"), false, "new project"))
@@ -139,6 +142,7 @@ void dialog(UiState& state, std::vector<UiAction>& actions) {
         state.rects.erase("dialog");
     }
     const bool exportDialog = state.dialog == UiState::Dialog::Export;
+    const bool importDialog = state.dialog == UiState::Dialog::Import;
     if (!ImGui::BeginPopupModal("##project-dialog", nullptr,
                                 ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoTitleBar |
                                     ImGuiWindowFlags_NoSavedSettings))
@@ -150,8 +154,9 @@ void dialog(UiState& state, std::vector<UiAction>& actions) {
     }
     rememberWindow(state, "dialog");
     ImGui::TextUnformatted(
-        exportDialog ? "Export the sculpture to a file (.glb .gltf .obj .stl .ply .vdb .dxf)"
-                     : "Save the project as a new folder (new or empty) and continue there");
+        exportDialog   ? "Export the sculpture to a file (.glb .gltf .obj .stl .ply .vdb .dxf)"
+        : importDialog ? "Add a mesh file as clay (.obj .stl .ply .gltf .glb; docs/import.md)"
+                       : "Save the project as a new folder (new or empty) and continue there");
     // The field has the keyboard with its text selected when the dialog opens and after an
     // error: typing replaces the proposal, arrows and End edit it.
     if (ImGui::IsWindowAppearing() || state.refocusField) ImGui::SetKeyboardFocusHere();
@@ -164,30 +169,43 @@ void dialog(UiState& state, std::vector<UiAction>& actions) {
         const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
         state.rects["field:path"] = {a.x, a.y, b.x, b.y};
     }
-    if (exportDialog) {
+    if (exportDialog || importDialog) {
+        // Export: the file's frame; import: the frame the file was written in.
         ImGui::SetNextItemWidth(140);
         ImGui::Combo("up axis", &state.exportUp, "format default\0+Y up\0+Z up\0");
         ImGui::SameLine();
         ImGui::SetNextItemWidth(140);
         ImGui::Combo("units", &state.exportUnits, "format default\0mm\0cm\0m\0");
     }
+    if (importDialog) {
+        ImGui::SetNextItemWidth(140);
+        ImGui::InputDouble("fit to mm (0: as is)", &state.importFitMm, 0, 0, "%.1f");
+    }
     if (!state.dialogError.empty()) {
         ImGui::PushTextWrapPos(560);
         ImGui::TextColored(ImVec4(1, 0.4f, 0.35f, 1), "%s", state.dialogError.c_str());
         ImGui::PopTextWrapPos();
     }
-    const bool ok = button(state, exportDialog ? "export" : "save as", false, "dialog ok");
+    const bool ok = button(state,
+                           exportDialog   ? "export"
+                           : importDialog ? "import"
+                                          : "save as",
+                           false, "dialog ok");
     ImGui::SameLine();
     const bool cancel =
         button(state, "cancel", false, "dialog cancel") || ImGui::IsKeyPressed(GLFW_KEY_ESCAPE);
     if (ok || enter) {
-        UiAction a{exportDialog ? "export" : "save_as", state.pathField, {}};
+        UiAction a{exportDialog ? "export" : importDialog ? "import" : "save_as", state.pathField};
         if (state.exportUp > 0)
             a.exportOptions.up = state.exportUp == 1 ? core::UpAxis::Y : core::UpAxis::Z;
         if (state.exportUnits > 0)
             a.exportOptions.units = state.exportUnits == 1   ? core::LengthUnit::Millimetre
                                     : state.exportUnits == 2 ? core::LengthUnit::Centimetre
                                                              : core::LengthUnit::Metre;
+        a.importOptions.up = a.exportOptions.up;
+        if (a.exportOptions.units)
+            a.importOptions.mmPerUnit = core::mmPerUnit(*a.exportOptions.units);
+        if (state.importFitMm > 0) a.importOptions.fitMm = state.importFitMm;
         actions.push_back(a);
     } else if (cancel) {
         state.dialog = UiState::Dialog::None;
@@ -407,14 +425,16 @@ std::filesystem::path savePreferences(const core::SculptConfig& cfg) {
 bool applySharedUiAction(const UiAction& a, Rig& rig, UiState& state, const core::SculptConfig& cfg,
                          std::string& message, bool& switched) {
     const std::string& n = a.name;
-    if (n == "open_save_as_dialog" || n == "open_export_dialog") {
-        state.dialog =
-            n == "open_export_dialog" ? UiState::Dialog::Export : UiState::Dialog::SaveAs;
+    if (n == "open_save_as_dialog" || n == "open_export_dialog" || n == "open_import_dialog") {
+        state.dialog = n == "open_export_dialog"   ? UiState::Dialog::Export
+                       : n == "open_import_dialog" ? UiState::Dialog::Import
+                                                   : UiState::Dialog::SaveAs;
         state.dialogOpening = true;
         state.dialogError.clear();
-        state.pathField = (state.dialog == UiState::Dialog::Export ? rig.defaultExportPath()
-                                                                   : newProjectDir("projects"))
-                              .string();
+        state.pathField = state.dialog == UiState::Dialog::Export ? rig.defaultExportPath().string()
+                          : state.dialog == UiState::Dialog::Import
+                              ? state.lastImportPath
+                              : newProjectDir("projects").string();
         return true;
     }
     if (n == "open_recent") {
@@ -422,7 +442,7 @@ bool applySharedUiAction(const UiAction& a, Rig& rig, UiState& state, const core
         state.recentList = recentProjects();
         return true;
     }
-    const bool fromDialog = n == "save_as" || n == "export";
+    const bool fromDialog = n == "save_as" || n == "export" || n == "import";
     if (n != "save" && n != "new_project" && n != "open_project" && n != "save_preferences" &&
         !fromDialog)
         return false;
@@ -435,6 +455,11 @@ bool applySharedUiAction(const UiAction& a, Rig& rig, UiState& state, const core
             switched = true;
         } else if (n == "export") {
             message = rig.exportTo(a.path, a.exportOptions);
+        } else if (n == "import") {
+            const int level = rig.studio().importMesh(a.path, a.importOptions);
+            message = "imported " + a.path.string() + " as clay (level " + std::to_string(level) +
+                      "); U undoes it";
+            state.lastImportPath = a.path.string();
         } else if (n == "new_project") {
             message = rig.newProject();
             switched = true;

@@ -303,6 +303,50 @@ TEST(WindowUi, TypingInTheExportDialogRunsNoBindingsAndErrorsStayInTheDialog) {
     std::filesystem::remove_all(dir);
 }
 
+TEST(WindowUi, TheImportDialogAddsAMeshAsClay) {
+    const fs::path dir = std::filesystem::temp_directory_path() /
+                         ("vsculpt-ui-import-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    // A 20 mm cube beside the sphere, outward-wound (OBJ: +Y up, mm).
+    const std::string cube = (dir / "cube.obj").string();
+    {
+        std::ofstream f(cube);
+        for (int i = 0; i < 8; ++i)
+            f << "v " << 60 + 20 * (i & 1) << " " << -10 + 20 * ((i >> 1) & 1) << " "
+              << -10 + 20 * ((i >> 2) & 1) << "\n";
+        f << "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+    }
+    const std::string missing = (dir / "missing.stl").string();
+    app::WindowOptions o = scratchWindow(26);
+    app::WindowOptions::Report report;
+    o.report = &report;
+    app::UiRect importButton;
+    std::string errorAfterMissing;
+    o.onFrame = [&](size_t frame, const app::UiState& ui, std::vector<InputEvent>& inject) {
+        clickOn("button:import mesh...", 2, frame, ui, inject, importButton);
+        auto type = [&](const std::string& text) {
+            for (char c : text)
+                inject.push_back(character(c));
+        };
+        if (frame == 8) type(missing);
+        if (frame == 10) inject.push_back(key(GLFW_KEY_ENTER, true));
+        if (frame == 11) inject.push_back(key(GLFW_KEY_ENTER, false));
+        if (frame == 14) errorAfterMissing = ui.dialogError;
+        if (frame == 15) type(cube);  // the field's text is selected again: replaced
+        if (frame == 17) inject.push_back(key(GLFW_KEY_ENTER, true));
+        if (frame == 18) inject.push_back(key(GLFW_KEY_ENTER, false));
+    };
+    std::ostringstream out, err;
+    ASSERT_EQ(app::runWindow(o, out, err), 0) << err.str();
+    EXPECT_NE(errorAfterMissing.find("missing.stl"), std::string::npos) << errorAfterMissing;
+    EXPECT_EQ(report.steps, 1u) << report.message;  // one undo step
+    EXPECT_GT(report.skeletons, 100u);
+    EXPECT_NE(report.message.find("imported " + cube), std::string::npos) << report.message;
+    EXPECT_FALSE(report.ui.rects.count("dialog"));
+    std::filesystem::remove_all(dir);
+}
+
 TEST(WindowUi, SketchWindowHasItsPanelAndHelpOnItsKey) {
     render::Image img;
     app::UiState ui;

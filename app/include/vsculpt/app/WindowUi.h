@@ -11,6 +11,7 @@
 
 #include "vsculpt/core/Config.h"
 #include "vsculpt/core/ExportMesh.h"
+#include "vsculpt/core/ImportMesh.h"
 #include "vsculpt/studio/Session.h"
 
 #include <array>
@@ -42,6 +43,7 @@ struct UiAction {
     std::string name;
     std::filesystem::path path{};
     core::ExportOptions exportOptions{};
+    core::ImportOptions importOptions{};
 };
 
 /// The UI's own state between frames (which panels are open, the dialogs' fields) and, for
@@ -53,10 +55,12 @@ struct UiState {
     /// Sketch window: the panel's button rows shown (else only its status lines and a row of
     /// toggles); unset until the first frame, which opens them on windows 600 px tall or more.
     std::optional<bool> sketchTools;
-    enum class Dialog { None, SaveAs, Export };
+    enum class Dialog { None, SaveAs, Export, Import };
     Dialog dialog = Dialog::None;
     bool dialogOpening = false;  ///< the dialog opens (and takes the keyboard) next frame
     std::string pathField;       ///< the dialog's path text
+    double importFitMm = 0;      ///< import dialog: scale to this largest extent (0: as is)
+    std::string lastImportPath;  ///< proposed again by the next import dialog
     std::string dialogError;     ///< shown in the dialog when its action failed
     bool refocusField = false;   ///< give the path field the keyboard again (after an error)
     int exportUp = 0;            ///< 0: the format's default, 1: +Y, 2: +Z

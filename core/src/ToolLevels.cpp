@@ -2,6 +2,7 @@
 #include "vsculpt/core/ToolLevels.h"
 
 #include "vsculpt/core/CalibrateSupport.h"
+#include "vsculpt/core/CalibrationTable.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -11,7 +12,16 @@ namespace vsculpt::core {
 ToolLevels::ToolLevels(const SculptConfig& cfg)
     : mFalloff(cfg.falloff), mIso(cfg.iso), mMode(cfg.placement) {
     double ratio = 0;  // R_k / D_k when calibrated
-    if (!cfg.manualSupport) {
+    // The shipped settings' calibration is compiled in (CalibrationTable.h): no start-up cost.
+    const TabulatedCalibration* table =
+        cfg.manualSupport
+            ? nullptr
+            : findTabulatedCalibration(mMode, cfg.falloff, cfg.spacingOverDiameter, cfg.iso);
+    if (table) {
+        mReport = table->report;
+        ratio = table->report.supportOverDiameter;
+        mCalibrated = true;
+    } else if (!cfg.manualSupport) {
         const CalibrationResult cal =
             calibrateSupport(mMode, mFalloff, cfg.spacingOverDiameter, cfg.iso);
         mReport = cal.report;
@@ -35,10 +45,16 @@ ToolLevels::ToolLevels(const SculptConfig& cfg)
     // With manual support radii R/D differs per level, and so does the coverage table; the
     // free placement mode uses the reference level's table for all levels in that case.
     const ToolLevel& ref = mLevels[kReferenceLevel - 1];
-    mCoverage = strokeCoverageTable(mMode, mFalloff, cfg.spacingOverDiameter,
-                                    ref.supportMm / ref.diameterMm);
-    mWall = core::strokeWallValue(mMode, mFalloff, cfg.spacingOverDiameter,
-                                  ref.supportMm / ref.diameterMm, mCoverage);
+    if (table) {
+        mCoverage.assign(table->coverage.begin(), table->coverage.end());
+        mWall = table->wall;
+        return;
+    }
+    // Calibrated: R/D itself (as the table has it), not R_4 / D_4 recomputed from it.
+    const double supportOverDiameter = mCalibrated ? ratio : ref.supportMm / ref.diameterMm;
+    mCoverage = strokeCoverageTable(mMode, mFalloff, cfg.spacingOverDiameter, supportOverDiameter);
+    mWall = core::strokeWallValue(mMode, mFalloff, cfg.spacingOverDiameter, supportOverDiameter,
+                                  mCoverage);
 }
 
 const ToolLevel& ToolLevels::level(int k) const {

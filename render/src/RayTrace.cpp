@@ -139,57 +139,68 @@ Image rayTrace(const core::Mesh& mesh, const RayTraceOptions& o) {
     tbb::parallel_for(0, o.height, [&](int y) {
         std::mt19937 rng(o.seed * 2654435761u + unsigned(y));
         std::uniform_real_distribution<double> U(0, 1);
+        // Each pixel is the mean of a 2x2 stratified grid of jittered primary rays, the AO and
+        // shadow rays shared out among them: silhouettes and thin shadow bands are
+        // antialiased instead of one ray deciding the whole pixel, at about the same cost.
+        const int aoPer = o.aoSamples > 0 ? std::max(1, (o.aoSamples + 3) / 4) : 0;
+        const int shadowPer = std::max(1, (o.shadowSamples + 3) / 4);
         for (int x = 0; x < o.width; ++x) {
             uint8_t* px = &img.rgba[(size_t(y) * o.width + x) * 4];
-            // The pixel centre through the same projection as the raster shot.
-            const double nx = (x + 0.5) / o.width * 2 - 1, ny = 1 - (y + 0.5) / o.height * 2;
-            const glm::dvec4 pn = worldFromClip * glm::dvec4(nx, ny, -1, 1);
-            const glm::dvec4 pf = worldFromClip * glm::dvec4(nx, ny, 1, 1);
-            const Vec3 origin = Vec3(pn) / pn.w, dir = glm::normalize(Vec3(pf) / pf.w - origin);
-            const auto hit = scene.intersect(origin, dir);
-            if (!hit) {
-                px[0] = kBackground[0];
-                px[1] = kBackground[1];
-                px[2] = kBackground[2];
-                px[3] = 255;
-                continue;
-            }
-            const Vec3 n = hit->normal;
-            const Vec3 p = hit->position + n * (1e-3 * radius);
-            // Ambient occlusion: cosine-weighted hemisphere rays.
-            const Vec3 t1 =
-                glm::normalize(glm::cross(n, std::abs(n.x) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0)));
-            const Vec3 t2 = glm::cross(n, t1);
-            int open = 0;
-            for (int s = 0; s < o.aoSamples; ++s) {
-                const double r = std::sqrt(U(rng)), phi = 2 * std::numbers::pi * U(rng);
-                const Vec3 w = t1 * (r * std::cos(phi)) + t2 * (r * std::sin(phi)) +
-                               n * std::sqrt(std::max(0.0, 1 - r * r));
-                open += !scene.occluded(p, w, 0, aoReach);
-            }
-            const double ao = o.aoSamples > 0 ? double(open) / o.aoSamples : 1.0;
-            // Soft shadow: rays to random points of the light's disc.
-            double lit = 0;
-            const Vec3 toLight = glm::normalize(lightCenter - p);
-            const double lambert = std::max(0.0, glm::dot(n, toLight));
-            if (lambert > 0) {
-                const Vec3 l1 =
-                    glm::normalize(glm::cross(toLight, Vec3(0, 0, 1) + Vec3(1e-6, 0, 0)));
-                const Vec3 l2 = glm::cross(toLight, l1);
-                int visible = 0;
-                for (int s = 0; s < o.shadowSamples; ++s) {
-                    const double r = lightRadius * std::sqrt(U(rng)),
-                                 phi = 2 * std::numbers::pi * U(rng);
-                    const Vec3 q =
-                        lightCenter + l1 * (r * std::cos(phi)) + l2 * (r * std::sin(phi));
-                    visible += !scene.occluded(p, q - p, 0, glm::length(q - p));
+            double sum[3] = {0, 0, 0};  // linear colour
+            for (int sub = 0; sub < 4; ++sub) {
+                const double sx = x + (0.5 * (sub & 1) + 0.5 * U(rng)),
+                             sy = y + (0.5 * (sub >> 1) + 0.5 * U(rng));
+                // Through the same projection as the raster shot.
+                const double nx = sx / o.width * 2 - 1, ny = 1 - sy / o.height * 2;
+                const glm::dvec4 pn = worldFromClip * glm::dvec4(nx, ny, -1, 1);
+                const glm::dvec4 pf = worldFromClip * glm::dvec4(nx, ny, 1, 1);
+                const Vec3 origin = Vec3(pn) / pn.w, dir = glm::normalize(Vec3(pf) / pf.w - origin);
+                const auto hit = scene.intersect(origin, dir);
+                if (!hit) {
+                    for (int c = 0; c < 3; ++c)
+                        sum[c] += std::pow(kBackground[c] / 255.0, 2.2);
+                    continue;
                 }
-                lit = lambert * double(visible) / std::max(1, o.shadowSamples);
+                const Vec3 n = hit->normal;
+                const Vec3 p = hit->position + n * (1e-3 * radius);
+                // Ambient occlusion: cosine-weighted hemisphere rays.
+                const Vec3 t1 = glm::normalize(
+                    glm::cross(n, std::abs(n.x) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0)));
+                const Vec3 t2 = glm::cross(n, t1);
+                int open = 0;
+                for (int s = 0; s < aoPer; ++s) {
+                    const double r = std::sqrt(U(rng)), phi = 2 * std::numbers::pi * U(rng);
+                    const Vec3 w = t1 * (r * std::cos(phi)) + t2 * (r * std::sin(phi)) +
+                                   n * std::sqrt(std::max(0.0, 1 - r * r));
+                    open += !scene.occluded(p, w, 0, aoReach);
+                }
+                const double ao = aoPer > 0 ? double(open) / aoPer : 1.0;
+                // Soft shadow: rays to random points of the light's disc.
+                double lit = 0;
+                const Vec3 toLight = glm::normalize(lightCenter - p);
+                const double lambert = std::max(0.0, glm::dot(n, toLight));
+                if (lambert > 0) {
+                    const Vec3 l1 =
+                        glm::normalize(glm::cross(toLight, Vec3(0, 0, 1) + Vec3(1e-6, 0, 0)));
+                    const Vec3 l2 = glm::cross(toLight, l1);
+                    int visible = 0;
+                    for (int s = 0; s < shadowPer; ++s) {
+                        const double r = lightRadius * std::sqrt(U(rng)),
+                                     phi = 2 * std::numbers::pi * U(rng);
+                        const Vec3 q =
+                            lightCenter + l1 * (r * std::cos(phi)) + l2 * (r * std::sin(phi));
+                        visible += !scene.occluded(p, q - p, 0, glm::length(q - p));
+                    }
+                    lit = lambert * double(visible) / shadowPer;
+                }
+                const double headlight = std::max(0.0, -glm::dot(n, dir));
+                const double g =
+                    std::clamp(0.02 + 0.22 * ao + 0.45 * lit + 0.06 * headlight, 0.0, 1.0);
+                for (double& c : sum)
+                    c += g;
             }
-            const double headlight = std::max(0.0, -glm::dot(n, dir));
-            const double g = std::clamp(0.02 + 0.22 * ao + 0.45 * lit + 0.06 * headlight, 0.0, 1.0);
-            const uint8_t v = uint8_t(std::lround(255 * std::pow(g, 1 / 2.2)));
-            px[0] = px[1] = px[2] = v;
+            for (int c = 0; c < 3; ++c)
+                px[c] = uint8_t(std::lround(255 * std::pow(sum[c] / 4, 1 / 2.2)));
             px[3] = 255;
         }
         const int done = ++rowsDone;

@@ -130,7 +130,9 @@ TEST(PlaceSolid, ASolidInsideClayAddsNothingAndAgainAddsNothing) {
         EXPECT_TRUE(second.changes.empty());
         // A smaller solid well inside the first one: the field there is already clay.
         const SolidPlacement inner = placeSolid(s, sphereMesh(Vec3(100, 0, 0), 6), first.level);
-        if (mode == PlacementMode::Thesis) EXPECT_TRUE(inner.changes.empty());
+        if (mode == PlacementMode::Thesis) {
+            EXPECT_TRUE(inner.changes.empty());
+        }
         for (const SkeletonChange& c : inner.changes)  // free: only the ramp's rounding
             EXPECT_LT(std::abs(*c.after - c.before.value_or(0)), 1e-3);
     }

@@ -311,8 +311,9 @@ TEST(Polygonizer, EveryChangedChunkGetsANewVersion) {
         poly.update(r.changedPoints, r.supportMm);
         const auto after = snapshot();
         for (size_t i = 0; i < after.size(); ++i)
-            if (after[i].second != before[i].second)
+            if (after[i].second != before[i].second) {
                 EXPECT_NE(after[i].first, before[i].first) << "edit " << edit << " chunk " << i;
+            }
     }
 }
 

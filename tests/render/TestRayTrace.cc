@@ -112,6 +112,35 @@ TEST(RayTrace, RaysNeverSlipThroughAClosedMesh) {
     EXPECT_EQ(broken, 0);
 }
 
+TEST(RayTrace, SilhouettesAreAntialiased) {
+    // Object pixels are grey (r = g = b), the background is not: a pixel the silhouette
+    // crosses blends the two when several rays share it. With one ray per pixel there are
+    // none; jagged silhouettes and speckled thin shadow bands were what users saw.
+    const core::Mesh mesh = sculptureMesh();
+    RayTraceOptions o;
+    o.width = 160;
+    o.height = 120;
+    o.aoSamples = 4;
+    o.shadowSamples = 2;
+    const Image img = rayTrace(mesh, o);
+    int background = 0, grey = 0, blended = 0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            const uint8_t* p = img.pixel(x, y);
+            if (p[0] == kBackground[0] && p[1] == kBackground[1] && p[2] == kBackground[2])
+                ++background;
+            else if (p[0] == p[1] && p[1] == p[2])
+                ++grey;
+            else
+                ++blended;
+        }
+    EXPECT_GT(background, 1000);  // the exact background where nothing is hit
+    EXPECT_GT(grey, 1000);
+    // Blends lie along the silhouette only: a thin fraction, but every silhouette row has one.
+    EXPECT_GT(blended, 100);
+    EXPECT_LT(blended, grey / 4);
+}
+
 TEST(RayTrace, StillsAreDeterministicAndShaded) {
     const core::Mesh mesh = sculptureMesh();
     RayTraceOptions o;

@@ -211,7 +211,6 @@ TEST(Studio, ProjectKeepsTheSketchAndTheTimeline) {
     {
         auto studioPtr = Studio::openProject(dir.path, smallConfig());
         Studio& studio = *studioPtr;
-        const Session* session = &studio.session();
         run(studio, kOutline + "solid inflate\n" + linePen(0, 30, 20, 30));
         expected = state(studio);
     }  // no save: the journal and sketch.json carry everything

@@ -193,51 +193,8 @@ EditResult StrokeBuilder::addSample(const Vec3& p) {
     const Vec3 a = mLast.value_or(p);
     mLast = p;
     if (mOp == ToolOp::Smooth) return addSmoothSample(a, p);
-    switch (mSculpture.config().placement) {
-        case PlacementMode::Thesis:
-            return addSampleThesis(a, p);
-        case PlacementMode::Free:
-            return addSampleFree(a, p);
-        case PlacementMode::Swept:
-            return addSampleSwept(a, p);
-    }
-    throw std::logic_error("unknown placement mode");
-}
-
-EditResult StrokeBuilder::addSampleThesis(const Vec3& a, const Vec3& p) {
-    const ToolLevels& levels = mSculpture.levels();
-    const ToolLevel& tl = levels.level(mLevel);
-    const double radius = 0.5 * tl.diameterMm;
-    const double iso = levels.iso();
-    SkeletonStore& store = mSculpture.store();
-
-    EditResult result;
-    Aabb changed;
-    for (const SweptVertex& sv : sweptWithMirror(tl.spacingMm, a, p, radius, mMirror)) {
-        const std::optional<float> current = store.get(mLevel, sv.coord);
-        auto [it, first] = mVisited.try_emplace(sv.coord, Visit{current, sv.lateralMm});
-        if (!first) continue;
-        const std::optional<float> before = it->second.preStroke;
-        const Vec3 pos = vertexPos(sv.coord, tl.spacingMm);
-        std::optional<float> after = before;
-        // Thesis §3.1.2: add fills empty vertices only; carve stacks a subtractive skeleton
-        // on a same-level additive one, or places one on an empty vertex inside material.
-        if (mOp == ToolOp::Add) {
-            if (!before) after = 1.0f;
-        } else if (before && *before == 1.0f) {
-            after = 0.0f;
-        } else if (!before && preStrokeRawSum(sv.coord, pos) - iso > 0) {
-            after = -1.0f;
-        }
-        if (after == current) continue;
-        setWeight(sv.coord, current, after);
-        changed.expand(pos);
-        result.changedPoints.push_back(pos);
-        ++result.changedVertices;
-    }
-    result.changedRegion = changed.padded(tl.supportMm);
-    result.supportMm = tl.supportMm;
-    return result;
+    return mSculpture.config().placement == PlacementMode::Swept ? addSampleSwept(a, p)
+                                                                 : addSampleOnTool(a, p);
 }
 
 EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
@@ -351,16 +308,12 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
     return result;
 }
 
-EditResult StrokeBuilder::addSampleFree(const Vec3& a, const Vec3& p) {
-    // Free mode (docs/placement.md): add raises the field at the vertex to at least what a
-    // fresh stroke gives there; carve lowers it so the carved wall is at the tool's surface.
-    // The change is spread as weights scaled by the stroke's gain at this lateral distance, so
-    // a uniform change over the swept tube comes out uniform. The field is the one before the
-    // stroke, so sample spacing does not matter.
+EditResult StrokeBuilder::addSampleOnTool(const Vec3& a, const Vec3& p) {
     const ToolLevels& levels = mSculpture.levels();
     const ToolLevel& tl = levels.level(mLevel);
     const double radius = 0.5 * tl.diameterMm;
     const double iso = levels.iso();
+    const bool thesis = mSculpture.config().placement == PlacementMode::Thesis;
     SkeletonStore& store = mSculpture.store();
 
     EditResult result;
@@ -369,23 +322,40 @@ EditResult StrokeBuilder::addSampleFree(const Vec3& a, const Vec3& p) {
         const std::optional<float> current = store.get(mLevel, sv.coord);
         auto [it, first] = mVisited.try_emplace(sv.coord, Visit{current, sv.lateralMm});
         if (!first) {
-            if (sv.lateralMm >= it->second.lateral) continue;
+            if (thesis || sv.lateralMm >= it->second.lateral) continue;
             it->second.lateral = sv.lateralMm;
         }
         const std::optional<float> before = it->second.preStroke;
         const Vec3 pos = vertexPos(sv.coord, tl.spacingMm);
         std::optional<float> after = before;
-        const double raw = preStrokeRawSum(sv.coord, pos);
-        const double lateral = sv.lateralMm / radius;
-        const double gain = levels.strokeGain(lateral);
-        const double w0 = before.value_or(0.0f);
-        // Carving: the wall of the carved tube should be at the tool's surface, where a uniform
-        // change reaches only strokeWallValue() of its size, so the change is what brings
-        // material there down to the iso level, scaled up by that share.
-        const double change = mOp == ToolOp::Add
-                                  ? std::max(0.0, levels.strokeCoverage(lateral) - raw)
-                                  : -std::max(0.0, raw - iso) / levels.strokeWallValue();
-        if (change != 0.0 && gain > 0.0) after = float(w0 + change * gain);
+        if (thesis) {
+            // Thesis §3.1.2: add fills empty vertices only; carve stacks a subtractive skeleton
+            // on a same-level additive one, or places one on an empty vertex inside material.
+            if (mOp == ToolOp::Add) {
+                if (!before) after = 1.0f;
+            } else if (before && *before == 1.0f) {
+                after = 0.0f;
+            } else if (!before && preStrokeRawSum(sv.coord, pos) - iso > 0) {
+                after = -1.0f;
+            }
+        } else {
+            // Free mode (docs/placement.md): add raises the field at the vertex to at least
+            // what a fresh stroke gives there; carve lowers it so the carved wall is at the
+            // tool's surface. The change is spread as weights scaled by the stroke's gain at
+            // this lateral distance, so a uniform change over the swept tube comes out uniform.
+            // The field is the one before the stroke, so sample spacing does not matter.
+            const double raw = preStrokeRawSum(sv.coord, pos);
+            const double lateral = sv.lateralMm / radius;
+            const double gain = levels.strokeGain(lateral);
+            const double w0 = before.value_or(0.0f);
+            // Carving: the wall of the carved tube should be at the tool's surface, where a
+            // uniform change reaches only strokeWallValue() of its size, so the change is what
+            // brings material there down to the iso level, scaled up by that share.
+            const double change = mOp == ToolOp::Add
+                                      ? std::max(0.0, levels.strokeCoverage(lateral) - raw)
+                                      : -std::max(0.0, raw - iso) / levels.strokeWallValue();
+            if (change != 0.0 && gain > 0.0) after = float(w0 + change * gain);
+        }
         if (after == current) continue;
         setWeight(sv.coord, current, after);
         changed.expand(pos);

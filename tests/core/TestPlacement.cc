@@ -135,8 +135,9 @@ TEST_P(PlacementBothModes, FastStrokesLeaveNoGaps) {
         nonzero += w.has_value();
     }
     EXPECT_EQ(s.store().vertexCount(), nonzero);
-    if (GetParam() == PlacementMode::Free)
+    if (GetParam() == PlacementMode::Free) {
         EXPECT_GE(nonzero, want.size() * 9 / 10);  // free mode skips rim vertices of weight 0
+    }
     // The surface is continuous along the whole segment.
     FieldProbe probe(s);
     for (int i = 0; i <= 400; ++i) {

@@ -86,8 +86,8 @@ class StrokeBuilder {
     double preStrokeRawSum(const LatticeCoord& v, const Vec3& pos);
     /// The field (without c) and its gradient before the stroke began.
     FieldSample preStrokeSample(const LatticeCoord& v, const Vec3& pos);
-    EditResult addSampleThesis(const Vec3& a, const Vec3& p);
-    EditResult addSampleFree(const Vec3& a, const Vec3& p);
+    /// Thesis and free modes: the vertices inside the swept tool decide their weights.
+    EditResult addSampleOnTool(const Vec3& a, const Vec3& p);
     EditResult addSampleSwept(const Vec3& a, const Vec3& p);
     EditResult addSmoothSample(const Vec3& a, const Vec3& p);
     /// Sets a vertex's weight (or empties it) and records the change, one per vertex.

@@ -28,6 +28,7 @@ RigOptions windowRigOptions(const std::string& projectDir, bool noProject, bool 
                                       : ProjectChoice::Given;
     ro.projectDir = projectDir;
     ro.liveDevices = liveDevices;
+    ro.rememberRecent = true;
     return ro;
 }
 
@@ -62,18 +63,31 @@ std::vector<std::filesystem::path> readRecent() {
 
 }  // namespace
 
-void rememberLastProject(const std::filesystem::path& dir) {
+namespace {
+
+void remember(const std::filesystem::path& dir, bool asLast) {
     try {
         std::filesystem::create_directories(dataDir());
         const std::filesystem::path absolute = std::filesystem::absolute(dir);
-        core::writeFileAtomically(dataDir() / "last-project", absolute.string() + "\n", false);
+        if (asLast)
+            core::writeFileAtomically(dataDir() / "last-project", absolute.string() + "\n", false);
         std::string text;
         for (const auto& p : withRecentProject(readRecent(), absolute))
             text += p.string() + "\n";
         core::writeFileAtomically(dataDir() / "recent-projects", text, false);
     } catch (const std::exception& e) {
-        spdlog::warn("cannot remember the last project: {}", e.what());
+        spdlog::warn("cannot remember the {} project: {}", asLast ? "last" : "recent", e.what());
     }
+}
+
+}  // namespace
+
+void rememberLastProject(const std::filesystem::path& dir) {
+    remember(dir, true);
+}
+
+void rememberRecentProject(const std::filesystem::path& dir) {
+    remember(dir, false);
 }
 
 std::vector<std::filesystem::path> withRecentProject(std::vector<std::filesystem::path> list,
@@ -176,9 +190,12 @@ Rig::Rig(const core::SculptConfig& cfg, const RigOptions& options)
             break;
         }
     }
-    if (mStudio->session().projectDir() && options.mode == ProjectMode::ReadWrite &&
-        options.project == ProjectChoice::Autosave)
-        rememberLastProject(*mStudio->session().projectDir());
+    if (mStudio->session().projectDir() && options.mode == ProjectMode::ReadWrite) {
+        if (options.project == ProjectChoice::Autosave)
+            rememberLastProject(*mStudio->session().projectDir());
+        else if (options.rememberRecent)  // --project DIR: recent, but not what opens next
+            rememberRecentProject(*mStudio->session().projectDir());
+    }
     if (options.liveDevices) mLive = std::make_unique<LiveDevices>(cfg.devices);
     rebuildInput();
 }

@@ -80,6 +80,32 @@ TEST(RecentProjects, RememberedInOrderAndOnlyExistingOnesOffered) {
     fs::remove_all(root);
 }
 
+// A window opened with --project DIR lists it among the recent projects but leaves the last
+// project (what a plain `vsculpt` continues) alone; `vsculpt play --project` lists nothing.
+TEST(RecentProjects, GivenProjectsOfWindowsAreRecentButNotLast) {
+    const fs::path root = freshDir("vsculpt-given");
+    ScopedEnv data("XDG_DATA_HOME", root / "data");
+    core::SculptConfig cfg;
+    cfg.polygonizer.gridN = 16;
+    {
+        app::RigOptions autosave = app::windowRigOptions("", false, false);
+        app::Rig rig(cfg, autosave);  // a new autosave project: last and recent
+    }
+    const auto last = app::lastProject();
+    ASSERT_TRUE(last.has_value());
+    { app::Rig rig(cfg, app::windowRigOptions((root / "given").string(), false, false)); }
+    EXPECT_EQ(app::lastProject(), last);
+    EXPECT_EQ(app::recentProjects(), (std::vector<fs::path>{root / "given", *last}));
+    {
+        app::RigOptions play;  // what `vsculpt play --project` builds
+        play.project = app::ProjectChoice::Given;
+        play.projectDir = root / "played";
+        app::Rig rig(cfg, play);
+    }
+    EXPECT_EQ(app::recentProjects(), (std::vector<fs::path>{root / "given", *last}));
+    fs::remove_all(root);
+}
+
 // Opening a recent project switches the rig's studio only once the new one is open and
 // locked: a folder without a project, or one open elsewhere, leaves the session as it was.
 TEST(RecentProjects, OpeningOneSwitchesSafely) {

@@ -35,6 +35,8 @@ struct RigOptions {
     studio::ProjectMode mode = studio::ProjectMode::ReadWrite;
     bool liveDevices = false;    ///< open the connected trackers, 3D mice, tablets, headsets
     bool alwaysEngaged = false;  ///< the thesis's always-engaged pen (Interaction.h)
+    /// A given project goes on the recent projects list (the windows; not `vsculpt play`).
+    bool rememberRecent = false;
 };
 
 /// A window's rig: `projectDir` when given, no project with `noProject`, otherwise the last
@@ -48,6 +50,9 @@ std::optional<std::filesystem::path> lastProject();
 /// Remembers `dir` as the last project and at the top of the recent projects (best effort:
 /// a failure is only reported).
 void rememberLastProject(const std::filesystem::path& dir);
+/// Puts `dir` at the top of the recent projects without making it the last project (a window
+/// opened with --project DIR; best effort: a failure is only reported).
+void rememberRecentProject(const std::filesystem::path& dir);
 /// The recent projects, most recent first (dataDir()/recent-projects, one absolute path a
 /// line), only those whose folder still holds a project.
 std::vector<std::filesystem::path> recentProjects();

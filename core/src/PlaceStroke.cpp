@@ -55,6 +55,13 @@ constexpr double kDeadBand = 0.02;
 
 using Stencil = std::map<std::array<int, 3>, double>;
 
+// A changed vertex at `pos`: into the edit's region and point list.
+void noteChanged(EditResult& result, Aabb& changed, const Vec3& pos) {
+    changed.expand(pos);
+    result.changedPoints.push_back(pos);
+    ++result.changedVertices;
+}
+
 // The lattice vertices swept by the segment a-p and, with a mirror plane, by its mirror image
 // too, in the same pass: each vertex keeps its closest approach to either segment (callers
 // take the smallest lateral distance), so a vertex and its mirror image are decided alike.
@@ -299,9 +306,7 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
         if (after == current) continue;
         setWeight(v, current, after);
         const Vec3 pos = vertexPos(v, tl.spacingMm);
-        changed.expand(pos);
-        result.changedPoints.push_back(pos);
-        ++result.changedVertices;
+        noteChanged(result, changed, pos);
     }
     result.changedRegion = changed.padded(tl.supportMm);
     result.supportMm = tl.supportMm;
@@ -358,9 +363,7 @@ EditResult StrokeBuilder::addSampleOnTool(const Vec3& a, const Vec3& p) {
         }
         if (after == current) continue;
         setWeight(sv.coord, current, after);
-        changed.expand(pos);
-        result.changedPoints.push_back(pos);
-        ++result.changedVertices;
+        noteChanged(result, changed, pos);
     }
     result.changedRegion = changed.padded(tl.supportMm);
     result.supportMm = tl.supportMm;
@@ -417,9 +420,7 @@ EditResult StrokeBuilder::addSmoothSample(const Vec3& a, const Vec3& p) {
                 store.erase(level, sv.coord);
             mChanges.push_back(SkeletonChange{level, sv.coord, current, after});
             const Vec3 pos = vertexPos(sv.coord, tl.spacingMm);
-            changed.expand(pos);
-            result.changedPoints.push_back(pos);
-            ++result.changedVertices;
+            noteChanged(result, changed, pos);
         }
     }
     result.changedRegion = changed.padded(support);

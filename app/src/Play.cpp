@@ -106,7 +106,7 @@ nlohmann::json statsJson(const Studio& studio, const Mesh& mesh, const PlayOptio
     j["settings"] = {{"placement_mode", toString(sc.config().placement)},
                      {"grid_n", sc.config().polygonizer.gridN},
                      {"zoom", s.zoom()},
-                     {"view_spacing_mm", s.view().region().spacingMm},
+                     {"view_spacing_mm", s.region().spacingMm},
                      {"mesh_spacing_mm", exportSpacing},
                      {"levels", levels},
                      {"config", nlohmann::json::parse(configToJson(sc.config()))}};

@@ -29,6 +29,7 @@ RigOptions windowRigOptions(const std::string& projectDir, bool noProject, bool 
     ro.projectDir = projectDir;
     ro.liveDevices = liveDevices;
     ro.rememberRecent = true;
+    ro.asyncMeshing = true;
     return ro;
 }
 
@@ -126,7 +127,7 @@ std::filesystem::path newProjectDir(const std::string& kind) {
 render::ProjectionCamera frontCamera(const Session& session, glm::ivec2 viewportPx) {
     if (viewportPx.x <= 0 || viewportPx.y <= 0)
         throw std::invalid_argument("model view size must be positive");
-    const core::Aabb box = core::meshBounds(session.view().mesh());
+    const core::Aabb box = session.published()->bounds;
     if (box.empty()) throw std::invalid_argument("nothing to draw on: the sculpture is empty");
     const glm::dmat4 worldFromObject = session.objectPose().matrix();
     // As the window frames it: the box after the object's pose, seen from the front.
@@ -143,12 +144,13 @@ render::ProjectionCamera frontCamera(const Session& session, glm::ivec2 viewport
 std::vector<std::vector<core::Vec3>> projectOnModel(const Session& session,
                                                     const std::vector<glm::dvec2>& strokePx,
                                                     const render::ProjectionCamera& camera) {
-    const core::Mesh mesh = session.view().mesh();
+    // The mesh on show (in the windows it may lag the last edit by a rebuild).
+    const core::Mesh mesh = session.published()->merged();
     if (mesh.triangleCount() == 0 || strokePx.empty()) return {};
     render::StrokeProjectionOptions o;
     // Points about a third of the finest lattice spacing on show apart: smooth at any zoom.
-    o.spacingMm = std::max(0.05, session.view().region().spacingMm / 3);
-    o.maxDepthJumpMm = std::max(o.spacingMm, 10 * session.view().region().spacingMm);
+    o.spacingMm = std::max(0.05, session.region().spacingMm / 3);
+    o.maxDepthJumpMm = std::max(o.spacingMm, 10 * session.region().spacingMm);
     std::vector<std::vector<core::Vec3>> lines;
     for (const auto& piece : render::projectStroke(mesh, camera, strokePx, o)) {
         std::vector<core::Vec3> line;
@@ -166,12 +168,23 @@ void installProjector(Studio& studio) {
         });
 }
 
+namespace {
+
+// What every studio a rig opens gets: the model-line projector and, for the windows, meshing
+// on the mesher thread.
+void setUpStudio(Studio& studio, const RigOptions& options) {
+    if (options.asyncMeshing) studio.setAsyncMeshing(true);
+    installProjector(studio);
+}
+
+}  // namespace
+
 Rig::Rig(const core::SculptConfig& cfg, const RigOptions& options)
     : mConfig(cfg), mOptions(options) {
     switch (options.project) {
         case ProjectChoice::None:
             mStudio = std::make_unique<Studio>(cfg);
-            installProjector(*mStudio);
+            setUpStudio(*mStudio, mOptions);
             break;
         case ProjectChoice::Given:
             openStudio(options.projectDir);
@@ -204,7 +217,7 @@ Rig::~Rig() = default;
 
 void Rig::openStudio(const std::filesystem::path& dir) {
     mStudio = Studio::openProject(dir, mConfig, mOptions.mode);
-    installProjector(*mStudio);
+    setUpStudio(*mStudio, mOptions);
 }
 
 DeviceInput& Rig::replayDevices(std::vector<devices::DeviceRule> rules) {
@@ -315,7 +328,7 @@ std::string Rig::openProject(const std::filesystem::path& dir) {
     mDevices.reset();
     mInteraction.reset();
     mStudio = std::move(next);
-    installProjector(*mStudio);
+    setUpStudio(*mStudio, mOptions);
     rebuildInput();
     rememberLastProject(dir);
     return saved + "opened " + dir.string();

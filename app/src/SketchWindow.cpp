@@ -136,7 +136,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
     std::string message = "TAB mode, I inflate, U undo";
     size_t commandIndex = 0, frame = 0;
     bool running = true;
-    core::Aabb frameBox = core::meshBounds(rig->session().view().mesh());
+    core::Aabb frameBox = rig->session().published()->bounds;
     // The panel spans the whole window (canvas and 3D view), drawn over both.
     if (uiLayer) uiLayer->setScale(float(cfg.render.uiScale));
     UiState uiState;
@@ -485,9 +485,11 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
             act([&] { studio.sketchStep([&](auto& p) { p.advanceTime(now()); }); });
 
         // The 3D view on the right, the canvas on the left.
-        viewer->syncChunks(session->view());
+        // The mesher's last published set: the frame never waits for a rebuild.
+        const std::shared_ptr<const core::MeshChunks> shown = session->published();
+        viewer->syncChunks(*shown);
         if (frame % 15 == 0 || frameBox.empty()) {
-            const core::Aabb b = core::meshBounds(session->view().mesh());
+            const core::Aabb b = shown->bounds;
             if (!b.empty()) frameBox = b;
         }
         viewer->setViewArea(canvasW, W - canvasW);
@@ -523,7 +525,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
         viewer->swap();
         if (headset) {
             headset->makeCurrent();
-            headset->syncChunks(session->view());
+            headset->syncChunks(*shown);
             headset->setSurfaceLines(studio.surfaceLines());
             headset->setTrackedHead(devices ? devices->worldFromHead(devices::monotonicNowNs())
                                             : std::optional<glm::dmat4>());

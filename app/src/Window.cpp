@@ -128,7 +128,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         spdlog::warn("monitor {} not found (render.fullscreen_monitor); staying in a window",
                      cfg.render.fullscreenMonitor);
     // What the camera frames: the mesh on show, refreshed now and then (and on zoom).
-    Aabb frameBox = meshBounds(sessionNow().view().mesh());
+    Aabb frameBox = sessionNow().published()->bounds;
     int framedZoom = sessionNow().zoom();
 
     // The region to zoom into: the surface point under the pointer, picked with Embree on the
@@ -364,9 +364,11 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
             tool.shadow = true;
             tool.shadowPos = Vec3(worldFromObject * glm::dvec4(*pick.shadow, 1));
         }
-        viewer->syncChunks(session.view());
+        // The mesher's last published set: the frame never waits for a rebuild.
+        const std::shared_ptr<const core::MeshChunks> shown = session.published();
+        viewer->syncChunks(*shown);
         if (session.zoom() != framedZoom || frame % 30 == 29) {
-            const Aabb b = meshBounds(session.view().mesh());
+            const Aabb b = shown->bounds;
             if (!b.empty()) frameBox = b;
             framedZoom = session.zoom();
         }

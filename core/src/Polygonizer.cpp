@@ -67,11 +67,11 @@ Aabb Polygonizer::blockBox(int bx, int by, int bz, int cells) const {
     return Aabb{mRegion.vertexPos(x, y, z), mRegion.vertexPos(x + cells, y + cells, z + cells)};
 }
 
-void Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& evals) const {
+bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& evals) const {
     out.vertices.clear();
     out.triangles.clear();
     const LocalField field(mSculpture, blockBox(bx, by, bz, kBlockCells));
-    if (!field.bounds().mayContainSurface()) return;
+    if (!field.bounds().mayContainSurface()) return false;
 
     constexpr int V = kBlockCells + 1;
     const int64_t gx0 = mRegion.originCell[0] + int64_t(bx) * kBlockCells;
@@ -87,7 +87,7 @@ void Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
                 (f > 0 ? anyIn : anyOut) = true;
             }
     evals += V * V * V;
-    if (!anyIn || !anyOut) return;
+    if (!anyIn || !anyOut) return true;
 
     // Grid edges of the block by local start vertex and direction: computed yet or not.
     // (A flat table: no hashing or allocation on this hot path.)
@@ -197,10 +197,11 @@ void Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
             }
     std::sort(out.vertices.begin(), out.vertices.end(),
               [](const EdgeVertex& a, const EdgeVertex& b) { return a.key < b.key; });
+    return true;
 }
 
 PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& blocks, bool threaded,
-                                     bool cullChunksFirst) {
+                                     bool cullChunksFirst, const std::atomic<bool>* cancel) {
     PolygonizeStats stats;
     stats.blocksConsidered = blocks.size();
     std::vector<char> culled(blocks.size(), 0);
@@ -226,11 +227,17 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
         }
     }
     std::vector<char> changed(blocks.size(), 0);
+    // 1: rebuilt; 0: skipped after a cancel (still stale).
+    std::vector<char> finished(blocks.size(), 1);
     tbb::combinable<size_t> evals([] { return size_t(0); });
     auto work = [&](size_t i) {
         const auto& b = blocks[i];
+        if (cancel && cancel->load(std::memory_order_relaxed)) {
+            finished[i] = 0;
+            return;
+        }
         BlockMesh fresh;
-        if (!culled[i]) buildBlock(b[0], b[1], b[2], fresh, evals.local());
+        if (!culled[i] && !buildBlock(b[0], b[1], b[2], fresh, evals.local())) culled[i] = 1;
         BlockMesh& slot = mBlocks[blockIndex(b[0], b[1], b[2])];
         // Which neighbouring blocks see a difference: bit s (0..7) set when the blocks at
         // offset -s (bit 0 = x, 1 = y, 2 = z) use something that changed. Bit 0: this block.
@@ -282,6 +289,10 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
     const int c = chunksPerAxis(), per = kChunkCells / kBlockCells;
     std::vector<char> chunkChanged(mChunkVersions.size(), 0);
     for (size_t i = 0; i < blocks.size(); ++i) {
+        if (!finished[i]) {
+            stats.unfinished.push_back(blocks[i]);
+            continue;
+        }
         stats.blocksCulled += culled[i];
         if (!changed[i]) continue;
         // The block's chunk, and the chunks of the blocks below it that use what changed.
@@ -305,17 +316,34 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
     return stats;
 }
 
-PolygonizeStats Polygonizer::rebuildAll(bool threaded) {
+PolygonizeStats Polygonizer::rebuildAll(bool threaded, const std::atomic<bool>* cancel) {
     std::vector<std::array<int, 3>> blocks;
     blocks.reserve(mBlocks.size());
     for (int x = 0; x < mBlocksPerAxis; ++x)
         for (int y = 0; y < mBlocksPerAxis; ++y)
             for (int z = 0; z < mBlocksPerAxis; ++z)
                 blocks.push_back({x, y, z});
-    return rebuild(blocks, threaded, true);
+    return rebuild(blocks, threaded, true, cancel);
 }
 
 PolygonizeStats Polygonizer::update(const Aabb& changed, bool threaded) {
+    return rebuild(blocksTouching(changed), threaded, false);
+}
+
+PolygonizeStats Polygonizer::update(std::span<const Vec3> points, double radius, bool threaded) {
+    return rebuild(blocksNear(points, radius), threaded, false);
+}
+
+PolygonizeStats Polygonizer::rebuildBlocks(const BlockList& blocks, bool threaded,
+                                           const std::atomic<bool>* cancel) {
+    for (const auto& b : blocks)
+        for (int a = 0; a < 3; ++a)
+            if (b[a] < 0 || b[a] >= mBlocksPerAxis)
+                throw std::out_of_range("polygonizer: block index outside the region");
+    return rebuild(blocks, threaded, false, cancel);
+}
+
+Polygonizer::BlockList Polygonizer::blocksTouching(const Aabb& changed) const {
     if (changed.empty()) return {};
     const Aabb box = mRegion.box();
     if (!changed.intersects(box)) return {};
@@ -332,10 +360,10 @@ PolygonizeStats Polygonizer::update(const Aabb& changed, bool threaded) {
         for (int y = lo[1]; y <= hi[1]; ++y)
             for (int z = lo[2]; z <= hi[2]; ++z)
                 if (blockBox(x, y, z, kBlockCells).intersects(changed)) blocks.push_back({x, y, z});
-    return rebuild(blocks, threaded, false);
+    return blocks;
 }
 
-PolygonizeStats Polygonizer::update(std::span<const Vec3> points, double radius, bool threaded) {
+Polygonizer::BlockList Polygonizer::blocksNear(std::span<const Vec3> points, double radius) const {
     if (points.empty()) return {};
     const Aabb box = mRegion.box();
     const double blockSize = kBlockCells * mRegion.spacingMm;
@@ -366,7 +394,7 @@ PolygonizeStats Polygonizer::update(std::span<const Vec3> points, double radius,
                 }
     }
     std::sort(blocks.begin(), blocks.end());
-    return rebuild(blocks, threaded, false);
+    return blocks;
 }
 
 const Polygonizer::EdgeVertex& Polygonizer::findVertex(uint64_t key) const {

@@ -44,6 +44,16 @@ Sculpture::Sculpture(const SculptConfig& cfg) : mConfig(cfg) {
     }
 }
 
+std::unique_ptr<Sculpture> Sculpture::clone() const {
+    std::unique_ptr<Sculpture> copy(new Sculpture());
+    copy->mConfig = mConfig;
+    copy->mLevels = mLevels;
+    copy->mStore = mStore.clone();
+    copy->mPoints = mPoints;
+    copy->worldFromObject = worldFromObject;
+    return copy;
+}
+
 void Sculpture::addPointSkeleton(const PointSkeleton& s) {
     mPoints.push_back(s);
 }

@@ -60,6 +60,15 @@ SkeletonStore SkeletonStore::clone() const {
     return copy;
 }
 
+void SkeletonStore::apply(std::span<const SkeletonWrite> writes) {
+    for (const SkeletonWrite& w : writes) {
+        if (w.weight)
+            set(w.level, w.coord, *w.weight);
+        else
+            erase(w.level, w.coord);
+    }
+}
+
 std::optional<float> SkeletonStore::get(int level, const LatticeCoord& c) const {
     const LevelBricks& L = mImpl->levels[checkedIndex(level)];
     const int64_t slot = L.find(brickOf(c.x), brickOf(c.y), brickOf(c.z));
@@ -74,6 +83,7 @@ std::optional<float> SkeletonStore::get(int level, const LatticeCoord& c) const 
 void SkeletonStore::set(int level, const LatticeCoord& c, float weight) {
     checkRange(c);
     LevelBricks& L = mImpl->levels[checkedIndex(level)];
+    if (mWriteLog) mWriteLog->push_back(SkeletonWrite{level, c, weight});
     const int32_t bx = brickOf(c.x), by = brickOf(c.y), bz = brickOf(c.z);
     const auto [slot, created] =
         L.index.tryEmplace(brickKey(bx, by, bz), uint32_t(L.bricks.size()));
@@ -110,6 +120,7 @@ void SkeletonStore::set(int level, const LatticeCoord& c, float weight) {
 
 void SkeletonStore::erase(int level, const LatticeCoord& c) {
     LevelBricks& L = mImpl->levels[checkedIndex(level)];
+    if (mWriteLog) mWriteLog->push_back(SkeletonWrite{level, c, std::nullopt});
     const int64_t slot = L.find(brickOf(c.x), brickOf(c.y), brickOf(c.z));
     if (slot < 0) return;
     Brick& b = L.bricks[size_t(slot)];

@@ -223,6 +223,37 @@ size_t Viewer::syncChunks(const core::Polygonizer& view) {
     return uploads;
 }
 
+size_t Viewer::syncChunks(const core::MeshChunks& set) {
+    if (mImpl->view != nullptr || !(mImpl->region == set.region)) {
+        for (auto& [k, c] : mImpl->chunks)
+            c.release();
+        mImpl->chunks.clear();
+        mImpl->view = nullptr;
+        mImpl->region = set.region;
+    }
+    size_t uploads = 0;
+    const int n = set.chunksPerAxis;
+    for (int x = 0; x < n; ++x)
+        for (int y = 0; y < n; ++y)
+            for (int z = 0; z < n; ++z) {
+                const size_t i = set.index(x, y, z);
+                auto it = mImpl->chunks.find({x, y, z});
+                if (!set.meshes[i]) {
+                    if (it != mImpl->chunks.end()) {
+                        it->second.release();
+                        mImpl->chunks.erase(it);
+                    }
+                    continue;
+                }
+                if (it != mImpl->chunks.end() && it->second.version == set.versions[i]) continue;
+                detail::GpuMesh& g = mImpl->chunks[{x, y, z}];
+                g.upload(*set.meshes[i]);
+                g.version = set.versions[i];
+                ++uploads;
+            }
+    return uploads;
+}
+
 FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& frameBox,
                         const ToolDraw& tool, StereoMode mode, const StereoDisplay& displayIn,
                         const LensCorrection& lens, const UiImage* ui) {

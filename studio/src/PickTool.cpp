@@ -30,9 +30,9 @@ namespace {
 // The march's step and reach for the view on show: fine enough not to step over a feature
 // the view can show, far enough to cross the whole region.
 void marchScale(const Session& s, double& step, double& far) {
-    const Aabb box = s.view().region().box();
+    const Aabb box = s.region().box();
     far = glm::length(box.max - box.min) * 1.5;
-    step = 0.5 * s.view().region().spacingMm;
+    step = 0.5 * s.region().spacingMm;
 }
 
 void addCues(FieldProbe& probe, ToolPick& pick, double radius, const Vec3& down, double step,
@@ -55,7 +55,7 @@ ToolPick pickTool(const Session& s, const Vec3& origin, const Vec3& dir, double 
         t = *hit;
         pick.surfaceHit = origin + t * dir;
     } else {
-        const Aabb box = s.view().region().box();
+        const Aabb box = s.region().box();
         t = glm::length(0.5 * (box.min + box.max) - origin);
     }
     pick.toolCentre = origin + (t - radius + depthOffset) * dir;

@@ -23,7 +23,10 @@ Session::Session(const SculptConfig& cfg, bool)
     mSize = mConfig.zoom.allowedSizes[0].front();
 }
 
-Session::~Session() = default;
+Session::~Session() {
+    mMesher.reset();
+    mSculpture->store().logWritesTo(nullptr);
+}
 
 void takeMachineSettings(SculptConfig& projectConfig, const SculptConfig& machine) {
     projectConfig.interaction = machine.interaction;
@@ -113,10 +116,79 @@ std::unique_ptr<Session> Session::openProject(const std::filesystem::path& dir,
 }
 
 void Session::rebuildView() {
-    const GridRegion region = zoomRegion(mConfig, mSculpture->levels(), mZoom, mZoomCenter);
-    mView =
-        std::make_unique<Polygonizer>(*mSculpture, region, mConfig.polygonizer.bisectionTolerance);
+    mRegion = zoomRegion(mConfig, mSculpture->levels(), mZoom, mZoomCenter);
+    if (mMesher) {
+        // The writes so far belong to the old region's last edit; then the region changes.
+        if (!mWrites.empty()) mMesher->post(std::exchange(mWrites, {}), Aabb{});
+        mMesher->setRegion(mRegion);
+        return;
+    }
+    mView = std::make_unique<Polygonizer>(*mSculpture, mRegion,
+                                          mConfig.polygonizer.bisectionTolerance);
     mView->rebuildAll();
+    ++mViewChanges;
+}
+
+void Session::meshChanged(std::span<const Vec3> points, double radius) {
+    if (mMesher) {
+        mMesher->post(std::exchange(mWrites, {}), std::vector<Vec3>(points.begin(), points.end()),
+                      radius);
+        return;
+    }
+    mView->update(points, radius);
+    ++mViewChanges;
+}
+
+void Session::meshChanged(const Aabb& box) {
+    if (mMesher) {
+        mMesher->post(std::exchange(mWrites, {}), box);
+        return;
+    }
+    mView->update(box);
+    ++mViewChanges;
+}
+
+void Session::setAsyncMeshing(bool on) {
+    if (on == asyncMeshing()) return;
+    if (on) {
+        mMesher = std::make_unique<AsyncMesher>(*mSculpture, mRegion,
+                                                mConfig.polygonizer.bisectionTolerance);
+        mWrites.clear();
+        mSculpture->store().logWritesTo(&mWrites);
+        mView.reset();
+        mSyncPublished.reset();
+    } else {
+        mMesher.reset();
+        mSculpture->store().logWritesTo(nullptr);
+        mWrites.clear();
+        rebuildView();
+    }
+}
+
+const Polygonizer& Session::view() const {
+    if (!mView)
+        throw std::logic_error("Session::view() with async meshing on: draw published()");
+    return *mView;
+}
+
+std::shared_ptr<const MeshChunks> Session::published() const {
+    if (mMesher) return mMesher->published();
+    if (!mSyncPublished || mSyncPublishedAt != mViewChanges) {
+        auto set = std::const_pointer_cast<MeshChunks>(publishChunks(*mView, mSyncPublished.get()));
+        set->edits = mViewChanges;
+        set->complete = true;
+        mSyncPublished = std::move(set);
+        mSyncPublishedAt = mViewChanges;
+    }
+    return mSyncPublished;
+}
+
+void Session::waitForMesh() const {
+    if (mMesher) mMesher->waitIdle();
+}
+
+std::vector<double> Session::takePublishDelaysMs() {
+    return mMesher ? mMesher->takePublishDelaysMs() : std::vector<double>{};
 }
 
 bool Session::apply(const ScriptCommand& c) {
@@ -222,14 +294,14 @@ void Session::strokeSample(const Vec3& p, bool world) {
     try {
         const auto t0 = std::chrono::steady_clock::now();
         const EditResult r = mStroke->addSample(objectPos);
-        mView->update(r.changedPoints, r.supportMm);
+        meshChanged(r.changedPoints, r.supportMm);
         mSampleMs.push_back(
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                 .count());
         mStrokeRecord.samples.push_back(objectPos);
     } catch (const std::logic_error& e) {
         // A refused sample cancels the whole stroke: no half-applied, unjournaled edit.
-        mView->update(revertChanges(*mSculpture, mStroke->changes()));
+        meshChanged(revertChanges(*mSculpture, mStroke->changes()));
         mStroke.reset();
         // The lattices refuse a point they cannot hold with invalid_argument/out_of_range:
         // the user's input. Any other logic_error is a broken invariant and stays one.
@@ -238,7 +310,7 @@ void Session::strokeSample(const Vec3& p, bool world) {
             throw SessionError(std::string("tool sample refused: ") + e.what());
         throw;
     } catch (...) {
-        mView->update(revertChanges(*mSculpture, mStroke->changes()));
+        meshChanged(revertChanges(*mSculpture, mStroke->changes()));
         mStroke.reset();
         throw;
     }
@@ -262,7 +334,7 @@ void Session::endStroke() {
     } catch (...) {
         // Not durable, so not done: roll the stroke back as addSolid does, so the sculpture
         // never shows what a reopened project would not have.
-        mView->update(revertChanges(*mSculpture, mStrokeRecord.changes));
+        meshChanged(revertChanges(*mSculpture, mStrokeRecord.changes));
         mStrokeRecord = StrokeRecord{};
         throw;
     }
@@ -308,8 +380,8 @@ int Session::addSolid(const Mesh& solid, int level, bool replaceLast) {
                            ", more than one edit can hold; choose a larger level");
     }
     if (placed.changes.empty()) return placed.level;  // already clay everywhere: no step
-    if (!takenBox.empty()) mView->update(takenBox);
-    mView->update(placed.edit.changedPoints, placed.edit.supportMm);
+    if (!takenBox.empty()) meshChanged(takenBox);
+    meshChanged(placed.edit.changedPoints, placed.edit.supportMm);
     JournalRecord j;
     j.sequence = ++mSequence;
     j.op = JournalOp::Solid;
@@ -319,7 +391,7 @@ int Session::addSolid(const Mesh& solid, int level, bool replaceLast) {
         journal(j);
     } catch (...) {
         // Not durable, so not done: no edit the project would lose on reopening.
-        mView->update(revertChanges(*mSculpture, placed.changes));
+        meshChanged(revertChanges(*mSculpture, placed.changes));
         --mSequence;
         throw;
     }
@@ -340,7 +412,7 @@ bool Session::undo() {
     j.op = JournalOp::Undo;
     journal(j);  // before the undo: a failed write leaves the step in place
     ++mSequence;
-    mView->update(mHistory.undo(*mSculpture));
+    meshChanged(mHistory.undo(*mSculpture));
     return true;
 }
 
@@ -352,7 +424,7 @@ bool Session::redo() {
     j.op = JournalOp::Redo;
     journal(j);
     ++mSequence;
-    mView->update(mHistory.redo(*mSculpture));
+    meshChanged(mHistory.redo(*mSculpture));
     return true;
 }
 
@@ -365,7 +437,7 @@ void Session::save() {
 }
 
 std::string Session::verifyMesh() const {
-    return mView->verifyAgainstFullRebuild();
+    return mMesher ? mMesher->verifyAgainstFullRebuild() : mView->verifyAgainstFullRebuild();
 }
 
 Mesh Session::wholeMesh(double spacing) const {

@@ -37,6 +37,9 @@ struct RigOptions {
     bool alwaysEngaged = false;  ///< the thesis's always-engaged pen (Interaction.h)
     /// A given project goes on the recent projects list (the windows; not `vsculpt play`).
     bool rememberRecent = false;
+    /// Mesh on the mesher thread (Session::setAsyncMeshing): the windows, whose frames must
+    /// never wait for a rebuild. Playback meshes every edit before the next (the default).
+    bool asyncMeshing = false;
 };
 
 /// A window's rig: `projectDir` when given, no project with `noProject`, otherwise the last

@@ -21,6 +21,7 @@
 #include "vsculpt/core/Zoom.h"
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -37,6 +38,8 @@ struct PolygonizeStats {
     size_t evaluations = 0;       ///< field evaluations (grid vertices, bisection, gradients)
     size_t chunksChanged = 0;     ///< chunks whose mesh differs from before
     std::vector<std::array<int, 3>> changedChunks;  ///< their indices, for re-upload
+    /// Blocks a cancelled rebuild did not reach (Polygonizer::rebuildBlocks): still stale.
+    std::vector<std::array<int, 3>> unfinished;
 };
 
 class Polygonizer {
@@ -50,7 +53,8 @@ class Polygonizer {
 
     /// Polygonizes every block. `threaded`: spread blocks over the oneTBB pool (the result
     /// is the same either way).
-    PolygonizeStats rebuildAll(bool threaded = true);
+    /// `cancel`: as in rebuildBlocks.
+    PolygonizeStats rebuildAll(bool threaded = true, const std::atomic<bool>* cancel = nullptr);
     /// Rebuilds the blocks whose cells touch `changedRegion` (object space, e.g. the union
     /// of EditResult::changedRegion since the last call).
     PolygonizeStats update(const Aabb& changedRegion, bool threaded = true);
@@ -58,6 +62,20 @@ class Polygonizer {
     /// changedPoints and supportMm), so only blocks within that distance are rebuilt.
     PolygonizeStats update(std::span<const Vec3> changedPoints, double radius,
                            bool threaded = true);
+
+    // Split form of update(), for a mesher that merges edits and may stop half-way
+    // (AsyncMesher.h). Block indices are (bx, by, bz), 0 .. n / kBlockCells - 1.
+    using BlockList = std::vector<std::array<int, 3>>;
+    /// Blocks update(points, radius) would rebuild, sorted.
+    BlockList blocksNear(std::span<const Vec3> changedPoints, double radius) const;
+    /// Blocks update(box) would rebuild, sorted.
+    BlockList blocksTouching(const Aabb& changedRegion) const;
+    /// Rebuilds the given blocks (sorted, no duplicates). `cancel` is read between blocks:
+    /// once it is true the remaining blocks are skipped and listed in stats.unfinished.
+    /// Every block that was rebuilt is exact; the mesh is consistent (mesh(), chunkMesh(),
+    /// verifyAgainstFullRebuild()) only after the unfinished ones are rebuilt too.
+    PolygonizeStats rebuildBlocks(const BlockList& blocks, bool threaded = true,
+                                  const std::atomic<bool>* cancel = nullptr);
 
     const GridRegion& region() const { return mRegion; }
 
@@ -100,9 +118,10 @@ class Polygonizer {
         return (size_t(bx) * mBlocksPerAxis + by) * mBlocksPerAxis + bz;
     }
     Aabb blockBox(int bx, int by, int bz, int cells) const;
-    void buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& evaluations) const;
+    /// Returns false when the block was culled (no surface can pass through it).
+    bool buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& evaluations) const;
     PolygonizeStats rebuild(const std::vector<std::array<int, 3>>& blocks, bool threaded,
-                            bool cullChunksFirst);
+                            bool cullChunksFirst, const std::atomic<bool>* cancel = nullptr);
 
     const Sculpture& mSculpture;
     GridRegion mRegion;

@@ -40,6 +40,10 @@ class Sculpture {
     /// initial sphere. @pre validateConfig(cfg) passed (throws ConfigError otherwise).
     explicit Sculpture(const SculptConfig& cfg);
 
+    /// A deep copy (skeletons and point skeletons; the tool levels are shared, immutable):
+    /// what a mesher thread reads while this one is being edited (AsyncMesher.h).
+    std::unique_ptr<Sculpture> clone() const;
+
     const SculptConfig& config() const { return mConfig; }
     const ToolLevels& levels() const { return *mLevels; }
     const std::shared_ptr<const ToolLevels>& sharedLevels() const { return mLevels; }
@@ -58,6 +62,7 @@ class Sculpture {
     Aabb supportBounds() const;
 
   private:
+    Sculpture() = default;
     SculptConfig mConfig;
     std::shared_ptr<const ToolLevels> mLevels;
     SkeletonStore mStore;

@@ -17,6 +17,8 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <span>
+#include <vector>
 
 namespace vsculpt::core {
 
@@ -27,6 +29,14 @@ struct SkeletonEntry {
     int level = 0;  ///< 1..7
     LatticeCoord coord;
     float weight = 0;
+};
+
+/// One write to a store: a skeleton placed or overwritten (weight), or a vertex emptied
+/// (no weight). Replaying a store's writes in order on a clone gives the same store.
+struct SkeletonWrite {
+    int level = 0;
+    LatticeCoord coord;
+    std::optional<float> weight;
 };
 
 class SkeletonStore {
@@ -47,6 +57,13 @@ class SkeletonStore {
     void set(int level, const LatticeCoord& c, float weight);
     /// Empties a vertex (no-op when already empty).
     void erase(int level, const LatticeCoord& c);
+
+    /// From now on every set() and erase() is also appended to `*log` (nullptr: stop). The
+    /// store does not own the log; a mesher drains it after each edit (AsyncMesher.h). A
+    /// clone does not inherit it.
+    void logWritesTo(std::vector<SkeletonWrite>* log) { mWriteLog = log; }
+    /// Replays writes in order (set or erase).
+    void apply(std::span<const SkeletonWrite> writes);
 
     /// Packs storage, returning the space growth left behind (also done automatically).
     void compact();
@@ -70,6 +87,7 @@ class SkeletonStore {
 
   private:
     std::unique_ptr<Impl> mImpl;
+    std::vector<SkeletonWrite>* mWriteLog = nullptr;
 };
 
 }  // namespace vsculpt::core

@@ -7,6 +7,7 @@
 /// on-screen UI arrives as a texture (UiImage, drawn by UiLayer) composited into each eye.
 #pragma once
 
+#include "vsculpt/core/MeshChunks.h"
 #include "vsculpt/core/Polygonizer.h"
 #include "vsculpt/render/Shot.h"
 #include "vsculpt/render/StereoCamera.h"
@@ -92,6 +93,11 @@ class Viewer {
     /// Uploads the chunks whose version changed since the last sync; drops chunks of a
     /// previous polygonizer (zoom change) automatically.
     size_t syncChunks(const core::Polygonizer& view);
+    /// The same from a published set (Session::published(), core::AsyncMesher): uploads the
+    /// chunks whose version differs from what is on the GPU, frees those that emptied, and
+    /// starts afresh when the region differs (zoom change, preview -> full resolution).
+    /// Returns the chunks uploaded.
+    size_t syncChunks(const core::MeshChunks& chunks);
     /// Draws the scene. `worldFromObject`: the sculpture's pose; the camera frames `focus`
     /// (object space) at `distanceMm`.
     FrameStats draw(const glm::dmat4& worldFromObject, const core::Aabb& frameBox,

@@ -6,9 +6,11 @@
 /// timeline; the session's own mutators are for the studio and for tests.
 #pragma once
 
+#include "vsculpt/core/AsyncMesher.h"
 #include "vsculpt/core/Config.h"
 #include "vsculpt/core/History.h"
 #include "vsculpt/core/Mesh.h"
+#include "vsculpt/core/MeshChunks.h"
 #include "vsculpt/core/PlaceStroke.h"
 #include "vsculpt/core/Polygonizer.h"
 #include "vsculpt/core/Project.h"
@@ -19,6 +21,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -112,13 +115,35 @@ class Session {
     void save();
     bool readOnly() const { return mReadOnly; }
 
-    /// `--check`: empty when the incremental mesh equals a full rebuild.
+    /// `--check`: empty when the incremental mesh equals a full rebuild (in async mode: once
+    /// the mesher has caught up with every edit).
     std::string verifyMesh() const;
+
+    // Meshing ---------------------------------------------------------------------------
+    /// Meshing on its own thread (core::AsyncMesher, docs/async-mesher.md): an edit returns
+    /// once placed and journaled, the mesher thread re-polygonizes, the windows draw
+    /// published(). Off (the default), every edit updates view() before it returns (playback,
+    /// tests, exports). Switching keeps the mesh.
+    void setAsyncMeshing(bool on);
+    bool asyncMeshing() const { return mMesher != nullptr; }
+    /// What to draw (never null). Async: the mesher's last published set, which may lag the
+    /// edits by a rebuild (or show a coarse preview after a zoom change). Otherwise view()'s
+    /// chunks, current with every edit.
+    std::shared_ptr<const core::MeshChunks> published() const;
+    /// The grid region of the current zoom (in async mode, the one being built).
+    const core::GridRegion& region() const { return mRegion; }
+    /// Async mode: waits until published() holds every edit made so far. No-op otherwise.
+    void waitForMesh() const;
+    /// Async mode: ms from each edit to the first published set holding it, since the last
+    /// call (docs/benchmarks.md). Empty otherwise.
+    std::vector<double> takePublishDelaysMs();
 
     // Results ---------------------------------------------------------------------------
     const core::Sculpture& sculpture() const { return *mSculpture; }
     const core::History& history() const { return mHistory; }
-    const core::Polygonizer& view() const { return *mView; }
+    /// The live polygonizer: only without async meshing (std::logic_error otherwise; use
+    /// published()).
+    const core::Polygonizer& view() const;
     /// Wall time of each tool sample (placement + mesh update), ms.
     const std::vector<double>& sampleMs() const { return mSampleMs; }
     const std::string& recoveryWarning() const { return mRecoveryWarning; }
@@ -138,10 +163,19 @@ class Session {
     Session(const core::SculptConfig& cfg, bool);
     void rebuildView();
     void journal(const core::JournalRecord& r);
+    /// The mesh follows an edit: f changed within `radius` of the points, or in the box.
+    void meshChanged(std::span<const core::Vec3> points, double radius);
+    void meshChanged(const core::Aabb& box);
 
     core::SculptConfig mConfig;
     std::unique_ptr<core::Sculpture> mSculpture;
-    std::unique_ptr<core::Polygonizer> mView;
+    core::GridRegion mRegion;
+    std::unique_ptr<core::Polygonizer> mView;      // without async meshing
+    std::unique_ptr<core::AsyncMesher> mMesher;    // with it
+    std::vector<core::SkeletonWrite> mWrites;      // async: the writes not yet posted
+    uint64_t mViewChanges = 0;                     // sync: view() updates so far
+    mutable std::shared_ptr<const core::MeshChunks> mSyncPublished;
+    mutable uint64_t mSyncPublishedAt = ~uint64_t(0);
     core::History mHistory;
     ToolKind mTool = ToolKind::Add;
     core::MirrorAxis mMirror = core::MirrorAxis::None;

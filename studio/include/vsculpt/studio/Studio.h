@@ -63,6 +63,9 @@ class Studio {
     const studio::SketchDocument& document() const { return mDocument; }
     studio::SketchPage& page() { return mDocument.current(); }
 
+    /// Session::setAsyncMeshing (the windows turn it on).
+    void setAsyncMeshing(bool on) { mSession->setAsyncMeshing(on); }
+
     // Tool state (Session.h). Changing tool, size or zoom ends a stroke in progress.
     void setTool(ToolKind tool);
     void setMirror(core::MirrorAxis axis);

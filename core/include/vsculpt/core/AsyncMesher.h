@@ -1,0 +1,133 @@
+// SPDX-License-Identifier: MIT
+/// @file AsyncMesher.h
+/// @brief Polygonizes a sculpture on its own thread, so the frame never waits for the mesher
+/// (docs/async-mesher.md).
+///
+/// The caller's thread (the frame/input thread) keeps editing its sculpture: placement stays
+/// on the input path. After each edit it posts the skeleton writes the edit made
+/// (SkeletonStore::logWritesTo) and where the field may have changed. The mesher thread owns
+/// a replica of the sculpture (a clone taken at construction): it replays the writes in order,
+/// so the replica passes through exactly the caller's states, rebuilds the dirty blocks of
+/// its own Polygonizer and publishes an immutable MeshChunks. A renderer draws
+/// `published()` and never blocks on a rebuild.
+///
+/// - Coalescing: edits posted while a rebuild runs are applied together and their dirty
+///   blocks rebuilt in one pass.
+/// - Superseding: a region change (zoom) cancels the running rebuild between blocks (an
+///   OpenVDB-style interrupter); the last published set stays on show, then a coarse preview
+///   of the new region, then the new region at full resolution.
+/// - Exactness: a set is published `complete` only when no dirty block is left; it then
+///   equals a full rebuild of the sculpture after `edits` (partial == full).
+///
+/// Threads: post(), setRegion(), published(), waitIdle() and verify() may be called from any
+/// one thread (the one editing the sculpture). The mesher thread touches only its replica.
+#pragma once
+
+#include "vsculpt/core/MeshChunks.h"
+#include "vsculpt/core/SkeletonStore.h"
+#include "vsculpt/core/Zoom.h"
+
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace vsculpt::core {
+
+class Polygonizer;
+class Sculpture;
+
+class AsyncMesher {
+  public:
+    struct Options {
+        bool threaded = true;  ///< spread each rebuild over the oneTBB pool
+        bool preview = true;   ///< publish a half-resolution preview of a new region first
+    };
+
+    /// Clones `sculpture` (on the calling thread) and polygonizes `region` before returning,
+    /// so published() holds a complete set from the start; then starts the mesher thread.
+    AsyncMesher(const Sculpture& sculpture, const GridRegion& region, double relTolerance,
+                Options options);
+    AsyncMesher(const Sculpture& sculpture, const GridRegion& region, double relTolerance)
+        : AsyncMesher(sculpture, region, relTolerance, Options{}) {}
+    /// Cancels the rebuild in progress and joins the thread.
+    ~AsyncMesher();
+    AsyncMesher(const AsyncMesher&) = delete;
+    AsyncMesher& operator=(const AsyncMesher&) = delete;
+
+    /// An edit of the caller's sculpture: its writes in the order made, and where f may have
+    /// changed (within `radiusMm` of the points, or the box). Takes a lock only to queue.
+    /// Returns the edit's number (1, 2, ...). Rethrows an error the mesher thread hit.
+    uint64_t post(std::vector<SkeletonWrite> writes, std::vector<Vec3> changedPoints,
+                  double radiusMm);
+    uint64_t post(std::vector<SkeletonWrite> writes, const Aabb& changedRegion);
+    /// The view moves to `region` (a zoom change); cancels a rebuild in progress.
+    uint64_t setRegion(const GridRegion& region);
+    /// The region the mesher is building towards (the last one set).
+    GridRegion targetRegion() const;
+
+    /// The last set published (never null). Cheap: a lock and a shared_ptr copy.
+    std::shared_ptr<const MeshChunks> published() const;
+    /// The number of the last edit posted.
+    uint64_t lastPosted() const;
+    /// Waits until a complete set holding every edit posted so far is published (exports,
+    /// `--check`, tests). Rethrows an error the mesher thread hit.
+    void waitIdle();
+    /// waitIdle(), then the mesher's Polygonizer::verifyAgainstFullRebuild on its replica.
+    std::string verifyAgainstFullRebuild();
+
+    /// Milliseconds from each edit's post() to the first complete set that holds it, for the
+    /// edits published since the last call (benchmarks, `--stats`).
+    std::vector<double> takePublishDelaysMs();
+    /// Rebuild passes run and passes cancelled so far.
+    size_t passes() const;
+    size_t cancelledPasses() const;
+
+  private:
+    using Clock = std::chrono::steady_clock;
+    struct Job {
+        uint64_t edit = 0;
+        Clock::time_point posted;
+        std::vector<SkeletonWrite> writes;
+        std::vector<Vec3> points;
+        double radius = 0;
+        Aabb box;                           ///< used when points is empty
+        std::optional<GridRegion> region;   ///< a region change
+    };
+    uint64_t enqueue(Job job);
+    void run();
+    void publish(std::shared_ptr<const MeshChunks> set);
+    void rethrowWorkerError();
+
+    double mRelTolerance;
+    Options mOptions;
+    std::unique_ptr<Sculpture> mReplica;   // mesher thread only (after construction)
+    std::unique_ptr<Polygonizer> mPoly;    // mesher thread only
+    std::vector<std::array<int, 3>> mPending;  // dirty blocks of mPoly, mesher thread only
+
+    mutable std::mutex mMutex;
+    std::condition_variable mWake;   // jobs queued or stop
+    std::condition_variable mIdle;   // a set published or an error
+    std::vector<Job> mQueue;
+    bool mStop = false;
+    bool mBusy = false;  // the mesher thread holds jobs it has not published yet
+    uint64_t mPostedEdits = 0;
+    GridRegion mTargetRegion;
+    std::shared_ptr<const MeshChunks> mPublished;
+    std::vector<std::pair<uint64_t, Clock::time_point>> mInFlight;  // edits not yet published
+    std::vector<double> mDelaysMs;
+    size_t mPasses = 0, mCancelled = 0;
+    std::exception_ptr mError;
+    std::atomic<bool> mCancel{false};  // a region change or stop is queued
+    std::thread mThread;
+};
+
+}  // namespace vsculpt::core

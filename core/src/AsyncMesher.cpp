@@ -1,0 +1,250 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/core/AsyncMesher.h"
+
+#include "vsculpt/core/Polygonizer.h"
+#include "vsculpt/core/Sculpture.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <utility>
+
+namespace vsculpt::core {
+
+namespace {
+
+int64_t floorDiv2(int64_t v) {
+    return v >= 0 ? v / 2 : -((-v + 1) / 2);
+}
+
+/// The same box at twice the spacing: an eighth of the blocks, for a quick first look.
+GridRegion previewRegion(const GridRegion& r) {
+    GridRegion p;
+    p.spacingMm = 2 * r.spacingMm;
+    for (int a = 0; a < 3; ++a)
+        p.originCell[a] = floorDiv2(r.originCell[a]);
+    const int cells = r.n / 2 + 1;  // +1: the rounded-down origin shifts the box by a cell
+    p.n = (cells + Polygonizer::kChunkCells - 1) / Polygonizer::kChunkCells *
+          Polygonizer::kChunkCells;
+    return p;
+}
+
+void mergeSorted(std::vector<std::array<int, 3>>& into, std::vector<std::array<int, 3>> more) {
+    if (more.empty()) return;
+    if (into.empty()) {
+        into = std::move(more);
+        return;
+    }
+    std::vector<std::array<int, 3>> out;
+    out.reserve(into.size() + more.size());
+    std::set_union(into.begin(), into.end(), more.begin(), more.end(), std::back_inserter(out));
+    into = std::move(out);
+}
+
+}  // namespace
+
+AsyncMesher::AsyncMesher(const Sculpture& sculpture, const GridRegion& region, double relTolerance,
+                         Options options)
+    : mRelTolerance(relTolerance),
+      mOptions(options),
+      mReplica(sculpture.clone()),
+      mTargetRegion(region) {
+    mPoly = std::make_unique<Polygonizer>(*mReplica, region, relTolerance);
+    mPoly->rebuildAll(mOptions.threaded);
+    auto first = std::const_pointer_cast<MeshChunks>(publishChunks(*mPoly, nullptr));
+    first->complete = true;
+    mPublished = std::move(first);
+    mThread = std::thread([this] { run(); });
+}
+
+AsyncMesher::~AsyncMesher() {
+    {
+        std::lock_guard lock(mMutex);
+        mStop = true;
+        mCancel.store(true);
+    }
+    mWake.notify_all();
+    mThread.join();
+}
+
+uint64_t AsyncMesher::enqueue(Job job) {
+    uint64_t edit = 0;
+    {
+        std::lock_guard lock(mMutex);
+        if (mError) std::rethrow_exception(mError);
+        edit = job.edit = ++mPostedEdits;
+        job.posted = Clock::now();
+        if (job.region) {
+            mTargetRegion = *job.region;
+            mCancel.store(true);  // the running rebuild is for a region no longer wanted
+        } else {
+            mInFlight.emplace_back(edit, job.posted);
+        }
+        mQueue.push_back(std::move(job));
+    }
+    mWake.notify_one();
+    return edit;
+}
+
+uint64_t AsyncMesher::post(std::vector<SkeletonWrite> writes, std::vector<Vec3> points,
+                           double radius) {
+    Job j;
+    j.writes = std::move(writes);
+    j.points = std::move(points);
+    j.radius = radius;
+    return enqueue(std::move(j));
+}
+
+uint64_t AsyncMesher::post(std::vector<SkeletonWrite> writes, const Aabb& changed) {
+    Job j;
+    j.writes = std::move(writes);
+    j.box = changed;
+    return enqueue(std::move(j));
+}
+
+uint64_t AsyncMesher::setRegion(const GridRegion& region) {
+    Job j;
+    j.region = region;
+    return enqueue(std::move(j));
+}
+
+GridRegion AsyncMesher::targetRegion() const {
+    std::lock_guard lock(mMutex);
+    return mTargetRegion;
+}
+
+std::shared_ptr<const MeshChunks> AsyncMesher::published() const {
+    std::lock_guard lock(mMutex);
+    return mPublished;
+}
+
+uint64_t AsyncMesher::lastPosted() const {
+    std::lock_guard lock(mMutex);
+    return mPostedEdits;
+}
+
+size_t AsyncMesher::passes() const {
+    std::lock_guard lock(mMutex);
+    return mPasses;
+}
+
+size_t AsyncMesher::cancelledPasses() const {
+    std::lock_guard lock(mMutex);
+    return mCancelled;
+}
+
+void AsyncMesher::waitIdle() {
+    std::unique_lock lock(mMutex);
+    mIdle.wait(lock, [&] {
+        return mError || (mPublished->complete && mPublished->edits == mPostedEdits);
+    });
+    if (mError) std::rethrow_exception(mError);
+}
+
+std::string AsyncMesher::verifyAgainstFullRebuild() {
+    // Holding the lock keeps the mesher thread from taking new jobs (it drains the queue
+    // under this lock), and after waitIdle it has nothing in hand: the replica and the
+    // polygonizer are at rest.
+    std::unique_lock lock(mMutex);
+    mIdle.wait(lock, [&] {
+        return mError || (mPublished->complete && mPublished->edits == mPostedEdits);
+    });
+    if (mError) std::rethrow_exception(mError);
+    return mPoly->verifyAgainstFullRebuild();
+}
+
+std::vector<double> AsyncMesher::takePublishDelaysMs() {
+    std::lock_guard lock(mMutex);
+    return std::exchange(mDelaysMs, {});
+}
+
+void AsyncMesher::publish(std::shared_ptr<const MeshChunks> set) {
+    {
+        std::lock_guard lock(mMutex);
+        mPublished = std::move(set);
+        if (mPublished->complete) {
+            const auto now = Clock::now();
+            auto it = mInFlight.begin();
+            for (; it != mInFlight.end() && it->first <= mPublished->edits; ++it)
+                mDelaysMs.push_back(
+                    std::chrono::duration<double, std::milli>(now - it->second).count());
+            mInFlight.erase(mInFlight.begin(), it);
+        }
+    }
+    mIdle.notify_all();
+}
+
+void AsyncMesher::run() {
+    for (;;) {
+        std::vector<Job> jobs;
+        {
+            std::unique_lock lock(mMutex);
+            mWake.wait(lock, [&] { return mStop || !mQueue.empty(); });
+            if (mStop) return;
+            jobs.swap(mQueue);
+            // Cleared with the queue taken: a region change posted from now on cancels the
+            // pass that follows.
+            mCancel.store(false);
+            ++mPasses;
+        }
+        try {
+            // The replica passes through the caller's states in order; dirty blocks are
+            // collected for the jobs after the last region change (a new region is built
+            // whole).
+            std::optional<GridRegion> newRegion;
+            std::vector<const Job*> dirty;
+            for (const Job& j : jobs) {
+                mReplica->store().apply(j.writes);
+                if (j.region) {
+                    newRegion = j.region;
+                    dirty.clear();
+                } else {
+                    dirty.push_back(&j);
+                }
+            }
+            const uint64_t lastEdit = jobs.back().edit;
+            if (newRegion) {
+                if (mOptions.preview) {
+                    Polygonizer coarse(*mReplica, previewRegion(*newRegion), mRelTolerance);
+                    if (!coarse.rebuildAll(mOptions.threaded, &mCancel).unfinished.empty()) {
+                        std::lock_guard lock(mMutex);
+                        ++mCancelled;
+                        continue;  // superseded already: the next pass takes the queue
+                    }
+                    auto set = std::const_pointer_cast<MeshChunks>(publishChunks(coarse, nullptr));
+                    set->edits = lastEdit;
+                    set->preview = true;
+                    publish(std::move(set));
+                }
+                mPoly = std::make_unique<Polygonizer>(*mReplica, *newRegion, mRelTolerance);
+                mPending = mPoly->rebuildAll(mOptions.threaded, &mCancel).unfinished;
+            } else {
+                for (const Job* j : dirty)
+                    mergeSorted(mPending, j->points.empty()
+                                              ? mPoly->blocksTouching(j->box)
+                                              : mPoly->blocksNear(j->points, j->radius));
+                mPending = mPoly->rebuildBlocks(mPending, mOptions.threaded, &mCancel).unfinished;
+            }
+            if (!mPending.empty()) {
+                std::lock_guard lock(mMutex);
+                ++mCancelled;
+                continue;
+            }
+            // The published set may be of another region (a preview): nothing to share then.
+            const std::shared_ptr<const MeshChunks> before = mPublished;  // written only here
+            auto set = std::const_pointer_cast<MeshChunks>(publishChunks(*mPoly, before.get()));
+            set->edits = lastEdit;
+            set->complete = true;
+            publish(std::move(set));
+        } catch (...) {
+            {
+                std::lock_guard lock(mMutex);
+                mError = std::current_exception();
+            }
+            mIdle.notify_all();
+            return;
+        }
+    }
+}
+
+}  // namespace vsculpt::core

@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/core/MeshChunks.h"
+
+#include "vsculpt/core/Polygonizer.h"
+
+namespace vsculpt::core {
+
+size_t MeshChunks::triangleCount() const {
+    size_t n = 0;
+    for (const auto& m : meshes)
+        if (m) n += m->triangleCount();
+    return n;
+}
+
+Mesh MeshChunks::merged() const {
+    Mesh out;
+    for (const auto& m : meshes) {
+        if (!m) continue;
+        const uint32_t base = uint32_t(out.positions.size());
+        out.positions.insert(out.positions.end(), m->positions.begin(), m->positions.end());
+        out.normals.insert(out.normals.end(), m->normals.begin(), m->normals.end());
+        for (uint32_t i : m->indices)
+            out.indices.push_back(base + i);
+    }
+    return out;
+}
+
+std::shared_ptr<const MeshChunks> publishChunks(const Polygonizer& poly,
+                                                const MeshChunks* previous) {
+    auto out = std::make_shared<MeshChunks>();
+    const int c = poly.chunksPerAxis();
+    out->region = poly.region();
+    out->chunksPerAxis = c;
+    const size_t count = size_t(c) * c * c;
+    out->versions.assign(count, 0);
+    out->meshes.assign(count, nullptr);
+    out->chunkBounds.assign(count, Aabb{});
+    const bool reuse = previous && previous->region == poly.region();
+    for (int x = 0; x < c; ++x)
+        for (int y = 0; y < c; ++y)
+            for (int z = 0; z < c; ++z) {
+                const size_t i = out->index(x, y, z);
+                const uint64_t v = poly.chunkVersion(x, y, z);
+                out->versions[i] = v;
+                if (v == 0) continue;
+                if (reuse && previous->versions[i] == v) {
+                    out->meshes[i] = previous->meshes[i];
+                    out->chunkBounds[i] = previous->chunkBounds[i];
+                } else {
+                    Mesh m = poly.chunkMesh(x, y, z);
+                    if (m.triangleCount() == 0) continue;
+                    out->chunkBounds[i] = meshBounds(m);
+                    out->meshes[i] = std::make_shared<const Mesh>(std::move(m));
+                }
+                out->bounds.expand(out->chunkBounds[i]);
+            }
+    return out;
+}
+
+}  // namespace vsculpt::core

@@ -158,7 +158,16 @@ std::vector<double> AsyncMesher::takePublishDelaysMs() {
     return std::exchange(mDelaysMs, {});
 }
 
+void AsyncMesher::hold(bool held) {
+    {
+        std::lock_guard lock(mMutex);
+        mHeld = held;
+    }
+    mWake.notify_one();
+}
+
 void AsyncMesher::publish(std::shared_ptr<const MeshChunks> set) {
+    const std::shared_ptr<const MeshChunks> keep = set;
     {
         std::lock_guard lock(mMutex);
         mPublished = std::move(set);
@@ -172,6 +181,7 @@ void AsyncMesher::publish(std::shared_ptr<const MeshChunks> set) {
         }
     }
     mIdle.notify_all();
+    if (mOptions.onPublish) mOptions.onPublish(*keep);
 }
 
 void AsyncMesher::run() {
@@ -179,7 +189,7 @@ void AsyncMesher::run() {
         std::vector<Job> jobs;
         {
             std::unique_lock lock(mMutex);
-            mWake.wait(lock, [&] { return mStop || !mQueue.empty(); });
+            mWake.wait(lock, [&] { return mStop || (!mHeld && !mQueue.empty()); });
             if (mStop) return;
             jobs.swap(mQueue);
             // Cleared with the queue taken: a region change posted from now on cancels the

@@ -123,8 +123,8 @@ void Session::rebuildView() {
         mMesher->setRegion(mRegion);
         return;
     }
-    mView = std::make_unique<Polygonizer>(*mSculpture, mRegion,
-                                          mConfig.polygonizer.bisectionTolerance);
+    mView =
+        std::make_unique<Polygonizer>(*mSculpture, mRegion, mConfig.polygonizer.bisectionTolerance);
     mView->rebuildAll();
     ++mViewChanges;
 }
@@ -166,8 +166,7 @@ void Session::setAsyncMeshing(bool on) {
 }
 
 const Polygonizer& Session::view() const {
-    if (!mView)
-        throw std::logic_error("Session::view() with async meshing on: draw published()");
+    if (!mView) throw std::logic_error("Session::view() with async meshing on: draw published()");
     return *mView;
 }
 

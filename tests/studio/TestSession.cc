@@ -54,6 +54,40 @@ TEST(Session, UndoToTheStartAndRedoToTheEnd) {
     EXPECT_FALSE(s.redo());
 }
 
+TEST(Session, AsyncMeshingEndsWhereSyncMeshingEnds) {
+    Session sync(smallConfig()), async(smallConfig());
+    async.setAsyncMeshing(true);
+    EXPECT_TRUE(async.asyncMeshing());
+    EXPECT_THROW(async.view(), std::logic_error);  // the live polygonizer is the mesher's
+    for (Session* s : {&sync, &async}) {
+        sculptSome(*s, 6, 3);
+        s->setZoom(3, Vec3(0, 0, 30));
+        s->setSize(4);
+        s->stroke({Vec3(-3, 0, 30), Vec3(3, 1, 30)}, false);
+        s->undo();
+        s->redo();
+        s->undo();
+        // A refused sample rolls the stroke back on the mesher's replica too.
+        EXPECT_THROW(s->stroke({Vec3(0, 0, 30), Vec3(2, 0, 30), Vec3(1e7, 0, 0)}, false),
+                     SessionError);
+        s->setZoom(1, Vec3(0.0));
+        sculptSome(*s, 2, 4);
+    }
+    async.waitForMesh();
+    const auto shown = async.published();
+    EXPECT_TRUE(shown->complete);
+    EXPECT_FALSE(shown->preview);
+    EXPECT_EQ(shown->region, sync.region());
+    EXPECT_EQ(core::canonicalMeshHash(shown->merged()), viewHash(sync));
+    EXPECT_EQ(core::canonicalMeshHash(sync.published()->merged()), viewHash(sync));
+    EXPECT_EQ(async.verifyMesh(), "");
+    EXPECT_FALSE(async.takePublishDelaysMs().empty());
+    EXPECT_TRUE(sync.takePublishDelaysMs().empty());
+    // Switching back keeps the mesh.
+    async.setAsyncMeshing(false);
+    EXPECT_EQ(viewHash(async), viewHash(sync));
+}
+
 TEST(Session, SizesFollowTheZoomTable) {
     Session s(smallConfig());
     EXPECT_THROW(s.setSize(3), SessionError);  // zoom 1 offers 7, 6, 5

@@ -33,6 +33,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <exception>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -50,6 +51,9 @@ class AsyncMesher {
     struct Options {
         bool threaded = true;  ///< spread each rebuild over the oneTBB pool
         bool preview = true;   ///< publish a half-resolution preview of a new region first
+        /// Called on the mesher thread with every set it publishes, after publishing (tests;
+        /// a host that wants to wake its frame loop). Must not call into the mesher.
+        std::function<void(const MeshChunks&)> onPublish;
     };
 
     /// Clones `sculpture` (on the calling thread) and polygonizes `region` before returning,
@@ -87,6 +91,11 @@ class AsyncMesher {
     /// Milliseconds from each edit's post() to the first complete set that holds it, for the
     /// edits published since the last call (benchmarks, `--stats`).
     std::vector<double> takePublishDelaysMs();
+    /// While held, posted jobs wait in the queue and are taken together on release (a host
+    /// batching a burst of edits; tests of coalescing). waitIdle() must not be called while
+    /// held with jobs queued.
+    void hold(bool held);
+
     /// Rebuild passes run and passes cancelled so far.
     size_t passes() const;
     size_t cancelledPasses() const;
@@ -99,8 +108,8 @@ class AsyncMesher {
         std::vector<SkeletonWrite> writes;
         std::vector<Vec3> points;
         double radius = 0;
-        Aabb box;                           ///< used when points is empty
-        std::optional<GridRegion> region;   ///< a region change
+        Aabb box;                          ///< used when points is empty
+        std::optional<GridRegion> region;  ///< a region change
     };
     uint64_t enqueue(Job job);
     void run();
@@ -109,16 +118,16 @@ class AsyncMesher {
 
     double mRelTolerance;
     Options mOptions;
-    std::unique_ptr<Sculpture> mReplica;   // mesher thread only (after construction)
-    std::unique_ptr<Polygonizer> mPoly;    // mesher thread only
+    std::unique_ptr<Sculpture> mReplica;       // mesher thread only (after construction)
+    std::unique_ptr<Polygonizer> mPoly;        // mesher thread only
     std::vector<std::array<int, 3>> mPending;  // dirty blocks of mPoly, mesher thread only
 
     mutable std::mutex mMutex;
-    std::condition_variable mWake;   // jobs queued or stop
-    std::condition_variable mIdle;   // a set published or an error
+    std::condition_variable mWake;  // jobs queued or stop
+    std::condition_variable mIdle;  // a set published or an error
     std::vector<Job> mQueue;
     bool mStop = false;
-    bool mBusy = false;  // the mesher thread holds jobs it has not published yet
+    bool mHeld = false;
     uint64_t mPostedEdits = 0;
     GridRegion mTargetRegion;
     std::shared_ptr<const MeshChunks> mPublished;

@@ -170,10 +170,10 @@ class Session {
     core::SculptConfig mConfig;
     std::unique_ptr<core::Sculpture> mSculpture;
     core::GridRegion mRegion;
-    std::unique_ptr<core::Polygonizer> mView;      // without async meshing
-    std::unique_ptr<core::AsyncMesher> mMesher;    // with it
-    std::vector<core::SkeletonWrite> mWrites;      // async: the writes not yet posted
-    uint64_t mViewChanges = 0;                     // sync: view() updates so far
+    std::unique_ptr<core::Polygonizer> mView;    // without async meshing
+    std::unique_ptr<core::AsyncMesher> mMesher;  // with it
+    std::vector<core::SkeletonWrite> mWrites;    // async: the writes not yet posted
+    uint64_t mViewChanges = 0;                   // sync: view() updates so far
     mutable std::shared_ptr<const core::MeshChunks> mSyncPublished;
     mutable uint64_t mSyncPublishedAt = ~uint64_t(0);
     core::History mHistory;

@@ -1,0 +1,267 @@
+// SPDX-License-Identifier: MIT
+// The asynchronous mesher (AsyncMesher.h): every set it publishes as complete equals a full
+// rebuild of the sculpture after the edits it claims; edits posted during a rebuild are
+// coalesced; a region change supersedes the one before; a cancelled rebuild leaves exactly
+// the blocks it did not reach.
+#include "vsculpt/core/AsyncMesher.h"
+
+#include "vsculpt/core/Polygonizer.h"
+
+#include "TestHelpers.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <random>
+
+using namespace vsculpt::core;
+using vsculpt::test::emptyConfig;
+using vsculpt::test::linePath;
+
+namespace {
+
+SculptConfig sphereConfig() {
+    SculptConfig cfg = emptyConfig(PlacementMode::Free);
+    cfg.sphereRadiusMm = 30;
+    cfg.polygonizer.gridN = 48;
+    return cfg;
+}
+
+uint64_t fullRebuildHash(const Sculpture& s, const GridRegion& region) {
+    Polygonizer full(s, region, s.config().polygonizer.bisectionTolerance);
+    full.rebuildAll();
+    return canonicalMeshHash(full.mesh());
+}
+
+/// What the mesher published, as seen from its thread.
+struct Seen {
+    std::mutex m;
+    struct Set {
+        uint64_t edits;
+        bool complete, preview;
+        GridRegion region;
+        uint64_t hash;
+    };
+    std::vector<Set> sets;
+    AsyncMesher::Options options() {
+        AsyncMesher::Options o;
+        o.onPublish = [this](const MeshChunks& c) {
+            const uint64_t h = canonicalMeshHash(c.merged());
+            std::lock_guard lock(m);
+            sets.push_back({c.edits, c.complete, c.preview, c.region, h});
+        };
+        return o;
+    }
+};
+
+TEST(AsyncMesher, EveryCompleteSetEqualsAFullRebuildAtItsEdit) {
+    const SculptConfig cfg = sphereConfig();
+    Sculpture s(cfg);
+    std::vector<SkeletonWrite> writes;
+    s.store().logWritesTo(&writes);
+    GridRegion region = zoomRegion(cfg, s.levels(), 1, Vec3(0.0));
+    Seen seen;
+    AsyncMesher mesher(s, region, cfg.polygonizer.bisectionTolerance, seen.options());
+    EXPECT_TRUE(mesher.published()->complete);
+    EXPECT_EQ(canonicalMeshHash(mesher.published()->merged()), fullRebuildHash(s, region));
+
+    // The reference: the mesh a full rebuild gives after every edit (the incremental
+    // polygonizer equals it: TestPolygonizer's PartialEqualsFull).
+    auto ref = std::make_unique<Polygonizer>(s, region, cfg.polygonizer.bisectionTolerance);
+    ref->rebuildAll();
+    std::map<uint64_t, uint64_t> refHash;
+    std::map<uint64_t, GridRegion> refRegion;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> U(-12, 12);
+    const Vec3 focus = glm::normalize(Vec3(0.3, 0.5, 0.8)) * 30.0;
+    for (int stroke = 0; stroke < 8; ++stroke) {
+        if (stroke == 3 || stroke == 6) {  // zoom in, then back out
+            region = zoomRegion(cfg, s.levels(), stroke == 3 ? 3 : 1, focus);
+            const uint64_t e = mesher.setRegion(region);
+            ref = std::make_unique<Polygonizer>(s, region, cfg.polygonizer.bisectionTolerance);
+            ref->rebuildAll();
+            refHash[e] = canonicalMeshHash(ref->mesh());
+            refRegion[e] = region;
+        }
+        const int level = stroke >= 3 && stroke < 6 ? 4 : 6;
+        const ToolOp op = stroke % 3 == 2 ? ToolOp::Carve : ToolOp::Add;
+        StrokeBuilder builder(s, op, level);
+        const Vec3 a = focus + Vec3(U(rng), U(rng), U(rng)) * (level == 4 ? 0.3 : 1.0);
+        const Vec3 b = focus + Vec3(U(rng), U(rng), U(rng)) * (level == 4 ? 0.3 : 1.0);
+        for (const Vec3& p : linePath(a, b, 0.4 * s.levels().level(level).diameterMm)) {
+            const EditResult r = builder.addSample(p);
+            const uint64_t e = mesher.post(std::exchange(writes, {}), r.changedPoints, r.supportMm);
+            ref->update(r.changedPoints, r.supportMm);
+            refHash[e] = canonicalMeshHash(ref->mesh());
+            refRegion[e] = region;
+        }
+    }
+    mesher.waitIdle();
+    EXPECT_EQ(mesher.verifyAgainstFullRebuild(), "");
+    const auto last = mesher.published();
+    EXPECT_EQ(last->edits, mesher.lastPosted());
+    EXPECT_EQ(canonicalMeshHash(last->merged()), fullRebuildHash(s, region));
+    s.store().logWritesTo(nullptr);
+
+    std::lock_guard lock(seen.m);
+    size_t complete = 0, previews = 0;
+    for (const auto& set : seen.sets) {
+        ASSERT_TRUE(refRegion.count(set.edits)) << set.edits;
+        if (set.preview) {
+            ++previews;
+            EXPECT_FALSE(set.complete);
+            EXPECT_EQ(set.region.spacingMm, 2 * refRegion[set.edits].spacingMm);
+            continue;
+        }
+        ASSERT_TRUE(set.complete);
+        ++complete;
+        EXPECT_EQ(set.region, refRegion[set.edits]) << "edit " << set.edits;
+        EXPECT_EQ(set.hash, refHash[set.edits]) << "edit " << set.edits;
+    }
+    EXPECT_GE(complete, 3u);
+    EXPECT_LE(previews, 2u);
+    // Sets are published in edit order.
+    for (size_t i = 1; i < seen.sets.size(); ++i)
+        EXPECT_LE(seen.sets[i - 1].edits, seen.sets[i].edits);
+}
+
+TEST(AsyncMesher, EditsPostedDuringARebuildAreCoalescedIntoOnePass) {
+    const SculptConfig cfg = sphereConfig();
+    Sculpture s(cfg);
+    std::vector<SkeletonWrite> writes;
+    s.store().logWritesTo(&writes);
+    const GridRegion region = zoomRegion(cfg, s.levels(), 1, Vec3(0.0));
+    AsyncMesher mesher(s, region, cfg.polygonizer.bisectionTolerance);
+    const size_t passesBefore = mesher.passes();
+    mesher.hold(true);  // as if a long rebuild were running: the edits queue up
+    StrokeBuilder builder(s, ToolOp::Add, 6);
+    int edits = 0;
+    for (const Vec3& p : linePath(Vec3(-20, 0, 28), Vec3(20, 5, 28), 3.0)) {
+        const EditResult r = builder.addSample(p);
+        mesher.post(std::exchange(writes, {}), r.changedPoints, r.supportMm);
+        ++edits;
+    }
+    ASSERT_GT(edits, 5);
+    EXPECT_EQ(mesher.published()->edits, 0u);  // nothing of it published yet
+    mesher.hold(false);
+    mesher.waitIdle();
+    EXPECT_EQ(mesher.passes(), passesBefore + 1);
+    EXPECT_EQ(mesher.published()->edits, uint64_t(edits));
+    EXPECT_EQ(canonicalMeshHash(mesher.published()->merged()), fullRebuildHash(s, region));
+    EXPECT_EQ(mesher.takePublishDelaysMs().size(), size_t(edits));
+    EXPECT_TRUE(mesher.takePublishDelaysMs().empty());
+    s.store().logWritesTo(nullptr);
+}
+
+TEST(AsyncMesher, ARegionChangeSupersedesTheOneBefore) {
+    const SculptConfig cfg = sphereConfig();
+    Sculpture s(cfg);
+    const GridRegion zoom1 = zoomRegion(cfg, s.levels(), 1, Vec3(0.0));
+    const GridRegion a = zoomRegion(cfg, s.levels(), 2, Vec3(0, 0, 30));
+    const GridRegion b = zoomRegion(cfg, s.levels(), 3, Vec3(30, 0, 0));
+    Seen seen;
+    AsyncMesher mesher(s, zoom1, cfg.polygonizer.bisectionTolerance, seen.options());
+    mesher.hold(true);
+    mesher.setRegion(a);
+    mesher.setRegion(b);
+    EXPECT_EQ(mesher.targetRegion(), b);
+    mesher.hold(false);
+    mesher.waitIdle();
+    EXPECT_EQ(mesher.published()->region, b);
+    EXPECT_EQ(canonicalMeshHash(mesher.published()->merged()), fullRebuildHash(s, b));
+    std::lock_guard lock(seen.m);
+    ASSERT_EQ(seen.sets.size(), 2u);  // b's preview, then b; nothing of a
+    EXPECT_TRUE(seen.sets[0].preview);
+    EXPECT_EQ(seen.sets[0].region.spacingMm, 2 * b.spacingMm);
+    EXPECT_TRUE(seen.sets[1].complete);
+    EXPECT_EQ(seen.sets[1].region, b);
+}
+
+TEST(AsyncMesher, ClosingWhileBusyNeitherHangsNorLosesTheCallersSculpture) {
+    const SculptConfig cfg = sphereConfig();
+    Sculpture s(cfg);
+    std::vector<SkeletonWrite> writes;
+    s.store().logWritesTo(&writes);
+    const size_t before = s.store().vertexCount();
+    {
+        AsyncMesher mesher(s, zoomRegion(cfg, s.levels(), 1, Vec3(0.0)),
+                           cfg.polygonizer.bisectionTolerance);
+        StrokeBuilder builder(s, ToolOp::Add, 5);
+        for (const Vec3& p : linePath(Vec3(-20, 0, 29), Vec3(20, 0, 29), 1.0)) {
+            const EditResult r = builder.addSample(p);
+            mesher.post(std::exchange(writes, {}), r.changedPoints, r.supportMm);
+        }
+        mesher.setRegion(zoomRegion(cfg, s.levels(), 5, Vec3(0, 0, 30)));
+    }  // destroyed with work queued or running
+    EXPECT_GT(s.store().vertexCount(), before);
+    s.store().logWritesTo(nullptr);
+}
+
+TEST(Polygonizer, ACancelledRebuildLeavesExactlyTheBlocksItDidNotReach) {
+    const SculptConfig cfg = sphereConfig();
+    Sculpture s(cfg);
+    const GridRegion region = zoomRegion(cfg, s.levels(), 1, Vec3(0.0));
+    Polygonizer poly(s, region, cfg.polygonizer.bisectionTolerance);
+    poly.rebuildAll();
+    StrokeBuilder builder(s, ToolOp::Add, 5);
+    Polygonizer::BlockList dirty;
+    for (const Vec3& p : linePath(Vec3(-20, 0, 29), Vec3(20, 0, 29), 1.0)) {
+        const EditResult r = builder.addSample(p);
+        const Polygonizer::BlockList near = poly.blocksNear(r.changedPoints, r.supportMm);
+        // The box form rebuilds at least what the tighter point form does.
+        const Polygonizer::BlockList boxed = poly.blocksTouching(r.changedRegion);
+        EXPECT_TRUE(std::includes(boxed.begin(), boxed.end(), near.begin(), near.end()));
+        Polygonizer::BlockList merged;
+        std::set_union(dirty.begin(), dirty.end(), near.begin(), near.end(),
+                       std::back_inserter(merged));
+        dirty = std::move(merged);
+    }
+    ASSERT_GT(dirty.size(), 20u);
+    const int c = poly.chunksPerAxis();
+    std::vector<uint64_t> versions;
+    for (int x = 0; x < c; ++x)
+        for (int y = 0; y < c; ++y)
+            for (int z = 0; z < c; ++z)
+                versions.push_back(poly.chunkVersion(x, y, z));
+    // Cancelled before the first block: nothing rebuilt, nothing changed, all still dirty.
+    const std::atomic<bool> cancelled{true};
+    PolygonizeStats st = poly.rebuildBlocks(dirty, true, &cancelled);
+    EXPECT_EQ(st.unfinished, dirty);
+    EXPECT_EQ(st.chunksChanged, 0u);
+    for (int x = 0, i = 0; x < c; ++x)
+        for (int y = 0; y < c; ++y)
+            for (int z = 0; z < c; ++z)
+                EXPECT_EQ(poly.chunkVersion(x, y, z), versions[size_t(i++)]);
+    // Rebuilt in two parts (as a pass cancelled half-way and the next one): exact.
+    const Polygonizer::BlockList first(dirty.begin(), dirty.begin() + dirty.size() / 2),
+        rest(dirty.begin() + dirty.size() / 2, dirty.end());
+    const std::atomic<bool> running{false};
+    st = poly.rebuildBlocks(first, true, &running);
+    EXPECT_TRUE(st.unfinished.empty());
+    EXPECT_GT(st.blocksConsidered - st.blocksCulled, 0u);
+    poly.rebuildBlocks(rest);
+    EXPECT_EQ(poly.verifyAgainstFullRebuild(), "");
+    EXPECT_THROW(poly.rebuildBlocks({{0, 0, region.n / Polygonizer::kBlockCells}}),
+                 std::out_of_range);
+}
+
+TEST(Polygonizer, UpdatesCountTheBlocksTheyCull) {
+    const SculptConfig cfg = sphereConfig();
+    Sculpture s(cfg);
+    const GridRegion region = zoomRegion(cfg, s.levels(), 1, Vec3(0.0));
+    Polygonizer poly(s, region, cfg.polygonizer.bisectionTolerance);
+    poly.rebuildAll();
+    // A box around the whole region: blocks deep inside and far outside the sphere cannot
+    // hold the surface, and the update says how many it skipped.
+    const PolygonizeStats st = poly.update(region.box());
+    EXPECT_EQ(st.blocksConsidered, size_t(std::pow(region.n / Polygonizer::kBlockCells, 3)));
+    EXPECT_GT(st.blocksCulled, st.blocksConsidered / 2);
+    EXPECT_LT(st.blocksCulled, st.blocksConsidered);
+}
+
+}  // namespace

@@ -4,6 +4,9 @@
 #include "vsculpt/core/Polygonizer.h"
 #include "vsculpt/core/Sculpture.h"
 
+#include <tbb/info.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <cmath>
 #include <iterator>
@@ -185,6 +188,13 @@ void AsyncMesher::publish(std::shared_ptr<const MeshChunks> set) {
 }
 
 void AsyncMesher::run() {
+    const int threads =
+        mOptions.threads > 0 ? mOptions.threads : std::max(1, tbb::info::default_concurrency() - 1);
+    tbb::task_arena arena(threads);
+    arena.execute([&] { loop(); });
+}
+
+void AsyncMesher::loop() {
     for (;;) {
         std::vector<Job> jobs;
         {

@@ -4,6 +4,7 @@
 /// dirty-block rebuild against an OpenVDB narrow-band level set stamping the same spheres,
 /// a headless frame loop, and memory at 1e5/1e6 skeletons. Results and commands:
 /// docs/benchmarks.md.
+#include "vsculpt/core/AsyncMesher.h"
 #include "vsculpt/core/EvalField.h"
 #include "vsculpt/core/History.h"
 #include "vsculpt/core/PlaceStroke.h"
@@ -635,6 +636,100 @@ void BM_FrameLoop(benchmark::State& state) {
     state.counters["skeletons"] = double(s.counts().total());
 }
 BENCHMARK(BM_FrameLoop)
+    ->ArgName("skeletons")
+    ->Arg(100000)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1)
+    ->UseRealTime();
+
+/// BM_FrameLoop with the asynchronous mesher (AsyncMesher.h, as the windows run it): the
+/// frame thread places the sample, posts its writes and takes the last published chunk set;
+/// the mesher thread rebuilds and extracts chunk meshes. Reported: the frame thread's CPU
+/// per frame (GL upload and draw excluded, as above), the delay from post() to the first
+/// published set holding the sample, and how many rebuild passes the stroke took (fewer than
+/// samples: coalesced).
+void BM_FrameLoopAsync(benchmark::State& state) {
+    const size_t skeletons = size_t(state.range(0));
+    DenseModel& model = denseModel(skeletons);
+    Sculpture& s = *model.sculpture;
+    constexpr int kLevel = 7;
+    const double d = s.levels().level(kLevel).diameterMm;
+    FieldProbe probe(*denseModel(kPileOnly).sculpture);
+    const Vec3 top = surfaceAbove(probe, kPileCenter.x, kPileCenter.y);
+    const GridRegion region = zoomRegion(s.config(), s.levels(), 1, top);
+    std::vector<SkeletonWrite> writes;
+    s.store().logWritesTo(&writes);
+    AsyncMesher mesher(s, region, s.config().polygonizer.bisectionTolerance);
+    constexpr int kFrames = 36;
+    std::vector<std::vector<Vec3>> paths;
+    for (int r = 0; r < 3; ++r) {
+        const double a = 3.14159265358979 * r / 3;
+        std::vector<Vec3> path;
+        for (int i = 0; i < kFrames; ++i) {
+            const Vec3 p =
+                top + Vec3(std::cos(a), std::sin(a), 0) * ((i - 0.5 * kFrames) * 0.1 * d);
+            path.push_back(surfaceAbove(probe, p.x, p.y));
+        }
+        paths.push_back(std::move(path));
+    }
+    const auto period = std::chrono::nanoseconds(11'111'111);
+    std::vector<double> frameCpu, frameWall, delay;
+    std::vector<uint64_t> shown = mesher.published()->versions;
+    int missed = 0;
+    size_t chunkUploads = 0, samples = 0;
+    const size_t passes0 = mesher.passes();
+    for (auto _ : state) {
+        for (const auto& path : paths) {
+            std::vector<SkeletonChange> changes;
+            {
+                StrokeBuilder stroke(s, ToolOp::Add, kLevel);
+                const auto start = Clock::now();
+                for (int f = 0; f < kFrames; ++f) {
+                    const auto sampleTime = start + f * period;
+                    std::this_thread::sleep_until(sampleTime);
+                    const auto w0 = Clock::now();
+                    const double c0 = threadCpuMs();
+                    const EditResult r = stroke.addSample(path[size_t(f)]);
+                    mesher.post(std::exchange(writes, {}), r.changedPoints, r.supportMm);
+                    const std::shared_ptr<const MeshChunks> set = mesher.published();
+                    // What the renderer would upload this frame (the meshes exist already).
+                    for (size_t i = 0; i < set->versions.size(); ++i)
+                        if (set->versions[i] != shown[i]) {
+                            shown[i] = set->versions[i];
+                            ++chunkUploads;
+                        }
+                    const double c1 = threadCpuMs();
+                    const auto w1 = Clock::now();
+                    frameCpu.push_back(c1 - c0);
+                    frameWall.push_back(msSince(w0, w1));
+                    missed += w1 - sampleTime > period;
+                    ++samples;
+                }
+                changes = stroke.takeChanges();
+            }
+            state.PauseTiming();
+            mesher.waitIdle();
+            for (double ms : mesher.takePublishDelaysMs())
+                delay.push_back(ms);
+            mesher.post(std::exchange(writes, {}), revertChanges(s, changes));
+            mesher.waitIdle();
+            mesher.takePublishDelaysMs();
+            shown = mesher.published()->versions;
+            state.ResumeTiming();
+        }
+    }
+    s.store().logWritesTo(nullptr);
+    reportPercentiles(state, "frame_cpu_", frameCpu);
+    state.counters["frame_wall_p99_ms"] = quantile(frameWall, 0.99);
+    reportPercentiles(state, "post_to_published_", delay);
+    state.counters["frames"] = double(frameCpu.size());
+    state.counters["frames_over_11ms"] = missed;
+    state.counters["passes_per_sample"] =
+        double(mesher.passes() - passes0 - paths.size()) / double(samples);
+    state.counters["chunk_uploads_per_frame"] = double(chunkUploads) / double(samples);
+    state.counters["skeletons"] = double(s.counts().total());
+}
+BENCHMARK(BM_FrameLoopAsync)
     ->ArgName("skeletons")
     ->Arg(100000)
     ->Unit(benchmark::kMillisecond)

@@ -49,7 +49,10 @@ class Sculpture;
 class AsyncMesher {
   public:
     struct Options {
-        bool threaded = true;  ///< spread each rebuild over the oneTBB pool
+        bool threaded = true;  ///< spread each rebuild over oneTBB worker threads
+        /// How many: 0 = every core but one (the frame thread's, so placing a sample never
+        /// waits for a core behind the mesher).
+        int threads = 0;
         bool preview = true;   ///< publish a half-resolution preview of a new region first
         /// Called on the mesher thread with every set it publishes, after publishing (tests;
         /// a host that wants to wake its frame loop). Must not call into the mesher.
@@ -113,6 +116,7 @@ class AsyncMesher {
     };
     uint64_t enqueue(Job job);
     void run();
+    void loop();
     void publish(std::shared_ptr<const MeshChunks> set);
     void rethrowWorkerError();
 

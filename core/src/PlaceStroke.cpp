@@ -77,8 +77,13 @@ std::vector<SweptVertex> sweptWithMirror(double spacing, const Vec3& a, const Ve
 }
 
 // Smooth tool (docs/placement.md): each pass moves every weight under the tool this share of
-// the way to the mean of its six lattice neighbours (times the brush profile).
-constexpr double kSmoothStrength = 0.5;
+// the way to the mean of its six lattice neighbours (times the brush profile). Swept mode's
+// deconvolved strokes spread their change over twice the tool radius, so their roughness lies
+// at lower lattice frequencies, which a step damps less: a longer step there (still stable:
+// the highest frequency's amplification is 1 - 2 * 0.75 = -0.5).
+double smoothStrength(PlacementMode mode) {
+    return mode == PlacementMode::Swept ? 0.75 : 0.5;
+}
 // A vertex that had no skeleton gets one only when diffusion gives it at least this weight:
 // smoothing must not scatter dust-sized skeletons over the whole tool region.
 constexpr double kSmoothMinNewWeight = 1e-3;
@@ -405,7 +410,7 @@ EditResult StrokeBuilder::addSmoothSample(const Vec3& a, const Vec3& p) {
                     (axis == 0 ? n.x : axis == 1 ? n.y : n.z) += sign;
                     neighbours += preStroke(n);
                 }
-            const double step = kSmoothStrength *
+            const double step = smoothStrength(mSculpture.config().placement) *
                                 strokeProfile(PlacementMode::Free, sv.lateralMm / radius) *
                                 (neighbours / 6.0 - w);
             const std::optional<float> current = store.get(level, sv.coord);

@@ -24,7 +24,7 @@ CliRun run(std::vector<const char*> args) {
 TEST(Cli, InfoPrintsTheInitialSculpture) {
     const CliRun r = run({"info"});
     EXPECT_EQ(r.code, 0) << r.err;
-    EXPECT_NE(r.out.find("placement mode: free"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("placement mode: swept"), std::string::npos) << r.out;  // the default
     EXPECT_NE(r.out.find("support calibrated"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("initial sphere: radius 40.000 mm"), std::string::npos) << r.out;
     // One row per tool level.

@@ -28,8 +28,8 @@ enum class PlacementMode {
     Thesis,  ///< the thesis's stacking rules, including its "cannot re-add where carved" limit
     Free,    ///< weights sized to what is there: carve then add works at any size combination
     /// The swept tool's volume added or removed: target field changes from the material's own
-    /// slope, deconvolved into weights (docs/placement.md). Opt-in while its extra skeletons
-    /// cost edit latency (issue #13, #14).
+    /// slope, deconvolved into weights (docs/placement.md). The default since the mesher
+    /// runs off the frame thread (docs/async-mesher.md).
     Swept,
 };
 
@@ -187,7 +187,7 @@ struct SculptConfig {
     std::optional<ManualSupport> manualSupport;  ///< empty: calibrate (the default)
 
     // placement
-    PlacementMode placement = PlacementMode::Free;
+    PlacementMode placement = PlacementMode::Swept;
 
     // initial shape: a sphere, represented by one point skeleton of its own support radius
     double sphereRadiusMm = 40.0;  ///< 0 starts from empty space

@@ -15,6 +15,10 @@ packages=(
   # rendering: GLFW window and GL context, GL loader, PNG screenshots; Xvfb + Mesa (llvmpipe)
   # give tests a real GL context on machines without a GPU
   libglfw3-dev libepoxy-dev libpng-dev xvfb xauth libgl1-mesa-dri
+  # OpenXR headsets (docs/xr.md): the Khronos loader and headers; Xlib and GL headers for the
+  # GLX graphics binding and the tests' scripted runtime; the core validation layer the XR
+  # tests run under
+  libopenxr-dev libopenxr-loader1 openxr-layer-corevalidation libx11-dev libgl-dev
   # on-screen UI (palette, help overlay, dialogs)
   libimgui-dev libstb-dev
   # ray-traced stills and picking

@@ -119,6 +119,13 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
                    "Project folder for the window: opened (and recovered) if it exists, created "
                    "otherwise. Default: the last project, or a new autosave project under "
                    "$XDG_DATA_HOME/vsculpt/autosave; every step is journaled as it is made");
+    bool xr = false;
+    cli.add_flag("--xr", xr,
+                 "Sculpt in an OpenXR headset (Monado, SteamVR; docs/xr.md): right controller = "
+                 "pen, left = 3D mouse. Without a runtime or headset: a warning, then the window");
+    cli.add_option("--record", window.recordPath,
+                   "With --xr: record the controllers to FILE.vsrec, a report a frame (replay: "
+                   "vsculpt play FILE)");
     cli.add_flag("--no-project", window.noProject,
                  "A scratch session: nothing is saved (the window's work is lost on exit)");
     CLI::App* infoCmd = cli.add_subcommand(
@@ -284,14 +291,24 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         sketchOpts.configPath = configPath == core::defaultConfigPath().string() ? "" : configPath;
         return runSketchWindow(sketchOpts, out, err);
     }
+    if (xr) window.xr = true;
     if (!*infoCmd) {
         window.configPath = configPath == core::defaultConfigPath().string() ? "" : configPath;
         const int code = runWindow(window, out, err);
         // Without a display the summary stands in for the window, unless the window was asked
-        // for work (a script, a shot, frames): that work was not done, so it is a failure.
+        // for work (a script, a shot, frames): that work was not done, so it is a failure. A
+        // headset session (--xr, render.output "xr") reports its own failures (a lost headset).
+        bool headset = xr;
+        if (!headset && code == 1) {
+            try {
+                headset = core::loadConfig(configPath).render.output == "xr";
+            } catch (const std::exception&) {
+                // A bad config was reported (exit 2) before any headset was opened.
+            }
+        }
         const bool askedForWindowWork =
             !window.shotPath.empty() || !window.playScript.empty() || window.frames > 0;
-        if (code != 1 || askedForWindowWork) return code;
+        if (code != 1 || askedForWindowWork || headset) return code;
         // No display: the summary is the headless main job.
     }
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/app/DeviceInput.h"
 
+#include "vsculpt/app/XrInput.h"
 #include "vsculpt/devices/HeadPose.h"
 #include "vsculpt/devices/HidDescriptor.h"
 #include "vsculpt/devices/HidDigitizer.h"
@@ -104,15 +105,19 @@ struct DeviceInput::State {
     devices::HeadPoseTracker head;
     std::optional<core::Vec3> toolWorld;
     std::vector<DeviceOutput> output;
+    // Recorded OpenXR controllers, one mapping per device.
+    core::XrConfig xrCfg;
+    std::map<std::string, std::unique_ptr<XrInput>> xrHands;
 
     State(const core::DevicesConfig& c, std::vector<devices::DeviceRule> r, Interaction& i,
-          studio::Studio& s)
+          studio::Studio& s, const core::XrConfig& x)
         : cfg(c),
           rules(std::move(r)),
           interaction(i),
           studio(s),
           session(s.session()),
-          head(headCalibration(c)) {
+          head(headCalibration(c)),
+          xrCfg(x) {
         worldFromTracker.rotation = eulerDegrees(c.worldFromTrackerRotationDeg);
         worldFromTracker.translation = c.worldFromTrackerTranslationMm;
     }
@@ -242,9 +247,31 @@ struct DeviceInput::State {
         }
     }
 
+    XrInput& xrInput(const devices::DeviceRule& r) {
+        auto& x = xrHands[r.name];
+        if (!x) x = std::make_unique<XrInput>(xrCfg, interaction, studio);
+        return *x;
+    }
+
+    // A frame of recorded OpenXR controllers, mapped as the live headset session did.
+    void xrReport(const devices::DeviceRule& r, const DeviceEvent& e, DeviceCounters& n) {
+        const std::optional<XrHands> h = parseXrHandsReport(e.bytes);
+        if (!h) {
+            ++n.decodeErrors;
+            return;
+        }
+        ++n.samples;
+        xrInput(r).handle(*h);
+        if (h->worldFromPen) toolWorld = xrInput(r).toolWorld();
+    }
+
     void left(const devices::DeviceRule& r, bool stalled, DeviceCounters& n) {
         (stalled ? n.stalls : n.departures)++;
         switch (r.driver) {
+            case DeviceDriver::OpenXr:
+                // No controllers: the stroke ends, the sculpture is let go.
+                xrInput(r).handle(XrHands{});
+                break;
             case DeviceDriver::Polhemus:
                 liftPen();
                 break;
@@ -394,8 +421,8 @@ struct DeviceInput::State {
 };
 
 DeviceInput::DeviceInput(const core::DevicesConfig& cfg, std::vector<devices::DeviceRule> rules,
-                         Interaction& interaction, studio::Studio& studio)
-    : mState(std::make_unique<State>(cfg, std::move(rules), interaction, studio)) {}
+                         Interaction& interaction, studio::Studio& studio, const core::XrConfig& xr)
+    : mState(std::make_unique<State>(cfg, std::move(rules), interaction, studio, xr)) {}
 
 DeviceInput::~DeviceInput() = default;
 
@@ -432,6 +459,9 @@ void DeviceInput::handle(const DeviceEvent& e) {
         case DeviceDriver::WacomLegacy:
         case DeviceDriver::HidDigitizer:
             mState->tabletReport(*r, e, n);
+            break;
+        case DeviceDriver::OpenXr:
+            mState->xrReport(*r, e, n);
             break;
     }
 }

@@ -221,8 +221,8 @@ void Rig::openStudio(const std::filesystem::path& dir) {
 }
 
 DeviceInput& Rig::replayDevices(std::vector<devices::DeviceRule> rules) {
-    mDevices =
-        std::make_unique<DeviceInput>(mConfig.devices, std::move(rules), *mInteraction, *mStudio);
+    mDevices = std::make_unique<DeviceInput>(mConfig.devices, std::move(rules), *mInteraction,
+                                             *mStudio, mConfig.render.xr);
     return *mDevices;
 }
 

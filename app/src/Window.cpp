@@ -4,6 +4,7 @@
 #include "KeyNames.h"
 #include "vsculpt/app/CliChecks.h"
 #include "vsculpt/app/Rig.h"
+#include "vsculpt/app/XrWindow.h"
 #include "vsculpt/core/Project.h"
 #include "vsculpt/core/WriteFileAtomically.h"
 #include "vsculpt/render/UiLayer.h"
@@ -68,6 +69,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         return 2;
     }
     spdlog::debug("config: {}", cfg.source);
+    if (o.xr.value_or(cfg.render.output == "xr")) return runXr(o, out, err);
     std::map<int, std::string> actionOfKey;
     if (!bindingsByKey(cfg, cfg.interaction.bindings, "bindings", actionOfKey)) return 2;
     std::unique_ptr<render::Viewer> viewer;

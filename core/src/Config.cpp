@@ -459,6 +459,28 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
     lens.number("red_scale", cfg.render.lensRedScale);
     lens.number("blue_scale", cfg.render.lensBlueScale);
     lens.rejectUnknown();
+    if (const json* v = rend.find("output")) {
+        const std::string o = v->is_string() ? v->get<std::string>() : "";
+        if (o != "window" && o != "xr")
+            rend.fail("render.output", "expected \"window\" or \"xr\", got " + v->dump());
+        cfg.render.output = o;
+    }
+    Section xr = rend.sub("xr");
+    if (const json* v = xr.find("sculpture_in_local_m")) {
+        if (!v->is_array() || v->size() != 3 || !(*v)[0].is_number() || !(*v)[1].is_number() ||
+            !(*v)[2].is_number())
+            xr.fail("render.xr.sculpture_in_local_m",
+                    "expected [x, y, z] in metres, got " + v->dump());
+        cfg.render.xr.sculptureInLocalM =
+            Vec3((*v)[0].get<double>(), (*v)[1].get<double>(), (*v)[2].get<double>());
+    }
+    xr.number("pen_tip_mm", cfg.render.xr.penTipMm);
+    xr.number("trigger_threshold", cfg.render.xr.triggerThreshold);
+    xr.number("trigger_penetration_mm", cfg.render.xr.triggerPenetrationMm);
+    xr.number("haptic_touching", cfg.render.xr.hapticTouching);
+    xr.number("haptic_inside", cfg.render.xr.hapticInside);
+    xr.number("haptic_pulse_ms", cfg.render.xr.hapticPulseMs);
+    xr.rejectUnknown();
     rend.rejectUnknown();
 
     parseDevices(top.sub("devices"), cfg.devices);
@@ -525,7 +547,18 @@ std::string configToJson(const SculptConfig& c) {
     j["zoom"] = {{"levels", kZoomLevels},
                  {"base_spacing_over_d6", c.zoom.baseSpacingOverD6},
                  {"allowed_sizes", c.zoom.allowedSizes}};
-    j["render"] = {{"stereo", c.render.stereo},
+    const XrConfig& x = c.render.xr;
+    j["render"] = {{"output", c.render.output},
+                   {"xr",
+                    {{"sculpture_in_local_m",
+                      {x.sculptureInLocalM.x, x.sculptureInLocalM.y, x.sculptureInLocalM.z}},
+                     {"pen_tip_mm", x.penTipMm},
+                     {"trigger_threshold", x.triggerThreshold},
+                     {"trigger_penetration_mm", x.triggerPenetrationMm},
+                     {"haptic_touching", x.hapticTouching},
+                     {"haptic_inside", x.hapticInside},
+                     {"haptic_pulse_ms", x.hapticPulseMs}}},
+                   {"stereo", c.render.stereo},
                    {"ipd_mm", c.render.ipdMm},
                    {"vertical_fov_deg", c.render.verticalFovDeg},
                    {"fullscreen_monitor", c.render.fullscreenMonitor},
@@ -642,6 +675,23 @@ void validateConfig(const SculptConfig& c) {
     if (!(c.render.verticalFovDeg >= 5 && c.render.verticalFovDeg <= 170))
         fail("render.vertical_fov_deg", "must be in [5, 170] degrees");
     if (c.render.fullscreenMonitor < -1) fail("render.fullscreen_monitor", "must be >= -1");
+    {
+        const XrConfig& x = c.render.xr;
+        for (int i = 0; i < 3; ++i)
+            if (!(std::isfinite(x.sculptureInLocalM[i]) && std::abs(x.sculptureInLocalM[i]) <= 100))
+                fail("render.xr.sculpture_in_local_m", "each coordinate must be in [-100, 100] m");
+        if (!(std::isfinite(x.penTipMm) && std::abs(x.penTipMm) <= 1000))
+            fail("render.xr.pen_tip_mm", "must be in [-1000, 1000] mm");
+        if (!(x.triggerThreshold > 0 && x.triggerThreshold <= 1))
+            fail("render.xr.trigger_threshold", "must be in (0, 1]");
+        if (!(x.triggerPenetrationMm >= 0 && x.triggerPenetrationMm <= 1000))
+            fail("render.xr.trigger_penetration_mm", "must be in [0, 1000] mm (0: off)");
+        for (const auto& [key, v] : {std::pair{"render.xr.haptic_touching", x.hapticTouching},
+                                     std::pair{"render.xr.haptic_inside", x.hapticInside}})
+            if (!(v >= 0 && v <= 1)) fail(key, "must be in [0, 1] (0: no pulse)");
+        if (!(x.hapticPulseMs > 0 && x.hapticPulseMs <= 1000))
+            fail("render.xr.haptic_pulse_ms", "must be in (0, 1000] ms");
+    }
     for (const auto& [key, v] : {std::pair{"render.lens.k1", c.render.lensK1},
                                  std::pair{"render.lens.k2", c.render.lensK2}})
         if (!(std::isfinite(v) && std::abs(v) <= 5)) fail(key, "must be in [-5, 5]");

@@ -10,11 +10,10 @@ struct DriverName {
     DeviceDriver driver;
     const char* name;
 };
-constexpr DriverName kDrivers[] = {{DeviceDriver::SpaceMouse, "spacemouse"},
-                                   {DeviceDriver::Polhemus, "polhemus"},
-                                   {DeviceDriver::WacomLegacy, "wacom"},
-                                   {DeviceDriver::HidDigitizer, "hid-digitizer"},
-                                   {DeviceDriver::RiftImu, "rift"}};
+constexpr DriverName kDrivers[] = {
+    {DeviceDriver::SpaceMouse, "spacemouse"}, {DeviceDriver::Polhemus, "polhemus"},
+    {DeviceDriver::WacomLegacy, "wacom"},     {DeviceDriver::HidDigitizer, "hid-digitizer"},
+    {DeviceDriver::RiftImu, "rift"},          {DeviceDriver::OpenXr, "openxr"}};
 }  // namespace
 
 const char* toString(DeviceDriver d) {

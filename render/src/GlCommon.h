@@ -11,6 +11,7 @@
 
 #include "vsculpt/core/Mesh.h"
 #include "vsculpt/render/Shot.h"
+#include "vsculpt/render/Viewer.h"
 
 #include <memory>
 #include <string>
@@ -81,6 +82,9 @@ struct GpuMesh {
         glDrawElements(mode, count, GL_UNSIGNED_INT, nullptr);
     }
 };
+
+/// The GLX handles of a window's context (NativeGl.cpp); throws RenderError off X11/GLX.
+NativeGl nativeGl(GLFWwindow* window);
 
 /// Throws RenderError naming the GL error, if any.
 void checkGl(const char* what);

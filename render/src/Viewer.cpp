@@ -110,6 +110,10 @@ struct Viewer::Impl {
     detail::GpuMesh sphere;
     std::vector<InputEvent> events;
     EyeView monoEye;
+    // Headset eyes (drawEye): a framebuffer for the swapchain texture and its depth.
+    GLuint xrFbo = 0, xrDepth = 0;
+    GLuint copyFrom = 0, copyTo = 0;  // copyTexture's framebuffers: colour only
+    int xrW = 0, xrH = 0;
 };
 
 Viewer::Viewer(int width, int height, const std::string& title, bool visible)
@@ -166,6 +170,14 @@ Viewer::~Viewer() {
         glDeleteFramebuffers(1, &mImpl->eyeFbo);
         glDeleteTextures(1, &mImpl->eyeColor);
         glDeleteRenderbuffers(1, &mImpl->eyeDepth);
+    }
+    if (mImpl->xrFbo) {
+        glDeleteFramebuffers(1, &mImpl->xrFbo);
+        glDeleteRenderbuffers(1, &mImpl->xrDepth);
+    }
+    if (mImpl->copyFrom) {
+        glDeleteFramebuffers(1, &mImpl->copyFrom);
+        glDeleteFramebuffers(1, &mImpl->copyTo);
     }
 }
 
@@ -431,6 +443,125 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
     stats.cpuMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return stats;
+}
+
+FrameStats Viewer::drawEye(const glm::dmat4& worldFromObject, const ToolDraw& tool,
+                           const EyeView& eye, unsigned colorTexture, int width, int height) {
+    const auto t0 = std::chrono::steady_clock::now();
+    FrameStats stats;
+    Impl& m = *mImpl;
+    if (!m.xrFbo) glGenFramebuffers(1, &m.xrFbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, m.xrFbo);
+    if (m.xrW != width || m.xrH != height) {
+        if (m.xrDepth) glDeleteRenderbuffers(1, &m.xrDepth);
+        glGenRenderbuffers(1, &m.xrDepth);
+        glBindRenderbuffer(GL_RENDERBUFFER, m.xrDepth);
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, m.xrDepth);
+        m.xrW = width;
+        m.xrH = height;
+    }
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colorTexture, 0);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw RenderError("headset eye framebuffer incomplete");
+    glViewport(0, 0, width, height);
+    glEnable(GL_DEPTH_TEST);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glClearColor(kBackground[0] / 255.f, kBackground[1] / 255.f, kBackground[2] / 255.f, 1.f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glUseProgram(m.program);
+    const glm::mat4 clip(eye.clipFromView * eye.viewFromWorld);
+    const glm::mat4 object(worldFromObject);
+    glUniformMatrix4fv(m.clipLoc, 1, GL_FALSE, glm::value_ptr(clip));
+    glUniform3f(m.eyeLoc, float(eye.worldPosition.x), float(eye.worldPosition.y),
+                float(eye.worldPosition.z));
+    glUniformMatrix4fv(m.worldFromObjectLoc, 1, GL_FALSE, glm::value_ptr(object));
+    glUniform3f(m.tintLoc, 1.f, 1.f, 1.f);
+    for (const auto& [k, g] : m.chunks) {
+        g.draw();
+        ++stats.chunksDrawn;
+        stats.triangles += size_t(g.count / 3);
+    }
+    if (m.lineMesh.count > 0) {
+        glUniform3f(m.tintLoc, 0.75f, 0.12f, 0.1f);
+        glDepthFunc(GL_LEQUAL);
+        glDepthRange(0.0, 0.9995);
+        m.lineMesh.draw(GL_LINES);
+        glDepthRange(0.0, 1.0);
+        glDepthFunc(GL_LESS);
+    }
+    if (tool.visible) {
+        // The same contact colours as the window: green air, yellow touching, red inside.
+        const glm::vec3 tint = tool.contact == 0   ? glm::vec3(0.45f, 1.0f, 0.5f)
+                               : tool.contact == 1 ? glm::vec3(1.0f, 0.9f, 0.3f)
+                                                   : glm::vec3(1.0f, 0.35f, 0.3f);
+        const glm::mat4 toolM = glm::scale(glm::translate(glm::mat4(1.f), glm::vec3(tool.worldPos)),
+                                           glm::vec3(float(tool.radiusMm)));
+        glUniformMatrix4fv(m.worldFromObjectLoc, 1, GL_FALSE, glm::value_ptr(toolM));
+        glUniform3fv(m.tintLoc, 1, glm::value_ptr(tint));
+        if (tool.selectBox) glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+        m.sphere.draw();
+        glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+        if (tool.shadow) {
+            // The depth cue, as in the window: a dark flattened disc on the surface below.
+            const float r = float(tool.radiusMm) * 0.9f;
+            const glm::mat4 shadowM =
+                glm::scale(glm::translate(glm::mat4(1.f), glm::vec3(tool.shadowPos)),
+                           glm::vec3(r, r, 0.08f * r));
+            glUniformMatrix4fv(m.worldFromObjectLoc, 1, GL_FALSE, glm::value_ptr(shadowM));
+            glUniform3f(m.tintLoc, 0.25f, 0.25f, 0.3f);
+            m.sphere.draw();
+        }
+    }
+    // The compositor reads the texture next: detach it so the framebuffer holds no image.
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    detail::checkGl("Viewer::drawEye");
+    stats.cpuMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return stats;
+}
+
+void Viewer::blitToWindow(unsigned colorTexture, int width, int height) {
+    Impl& m = *mImpl;
+    if (!m.xrFbo) glGenFramebuffers(1, &m.xrFbo);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, m.xrFbo);
+    glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colorTexture,
+                           0);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    const int w = this->width(), h = this->height();
+    // Fit, keeping the eye's aspect.
+    const double s = std::min(double(w) / std::max(1, width), double(h) / std::max(1, height));
+    const int dw = int(width * s), dh = int(height * s), dx = (w - dw) / 2, dy = (h - dh) / 2;
+    glClearColor(0.f, 0.f, 0.f, 1.f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glBlitFramebuffer(0, 0, width, height, dx, dy, dx + dw, dy + dh, GL_COLOR_BUFFER_BIT,
+                      GL_LINEAR);
+    glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    detail::checkGl("Viewer::blitToWindow");
+}
+
+void Viewer::copyTexture(unsigned source, unsigned destination, int width, int height) {
+    Impl& m = *mImpl;
+    if (!m.copyFrom) {
+        glGenFramebuffers(1, &m.copyFrom);
+        glGenFramebuffers(1, &m.copyTo);
+    }
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, m.copyFrom);
+    glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, source, 0);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.copyTo);
+    glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, destination,
+                           0);
+    glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+    glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    detail::checkGl("Viewer::copyTexture");
+}
+
+NativeGl Viewer::nativeGl() const {
+    return detail::nativeGl(mImpl->window.get());
 }
 
 void Viewer::compositeUi(const UiImage& ui, double shiftNdc) {

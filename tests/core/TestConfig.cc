@@ -109,6 +109,33 @@ TEST(Config, ParsesEveryKey) {
     EXPECT_EQ(c.source, "x.json");
 }
 
+TEST(Config, ReadsTheHeadsetSection) {
+    const SculptConfig c = parseConfig(R"({"render": {"output": "xr", "xr": {
+        "sculpture_in_local_m": [0.1, -0.3, -0.6], "pen_tip_mm": 25, "trigger_threshold": 0.3,
+        "trigger_penetration_mm": 8, "haptic_touching": 0.2, "haptic_inside": 1,
+        "haptic_pulse_ms": 11}}})",
+                                       "x.json");
+    EXPECT_EQ(c.render.output, "xr");
+    EXPECT_EQ(c.render.xr.sculptureInLocalM, Vec3(0.1, -0.3, -0.6));
+    EXPECT_EQ(c.render.xr.penTipMm, 25);
+    EXPECT_EQ(c.render.xr.triggerThreshold, 0.3);
+    EXPECT_EQ(c.render.xr.triggerPenetrationMm, 8);
+    EXPECT_EQ(c.render.xr.hapticTouching, 0.2);
+    EXPECT_EQ(c.render.xr.hapticInside, 1);
+    EXPECT_EQ(c.render.xr.hapticPulseMs, 11);
+    EXPECT_EQ(errorOf(R"({"render": {"output": "headset"}})"),
+              "test.json: render.output: expected \"window\" or \"xr\", got \"headset\"");
+    EXPECT_NE(errorOf(R"({"render": {"xr": {"haptic_inside": 1.5}}})")
+                  .find("render.xr.haptic_inside: must be in [0, 1]"),
+              std::string::npos);
+    EXPECT_NE(errorOf(R"({"render": {"xr": {"haptic_insid": 0.5}}})")
+                  .find("render.xr.haptic_insid: unknown key"),
+              std::string::npos);
+    EXPECT_NE(errorOf(R"({"render": {"xr": {"trigger_threshold": 0}}})")
+                  .find("render.xr.trigger_threshold: must be in (0, 1]"),
+              std::string::npos);
+}
+
 TEST(Config, SyntaxErrorsNameFileLineAndColumn) {
     const std::string e = errorOf("{\n  \"tools\": {\n    \"growth\": 1.5,,\n  }\n}");
     EXPECT_NE(e.find("test.json:3:"), std::string::npos) << e;

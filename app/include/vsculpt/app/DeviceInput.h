@@ -58,8 +58,10 @@ struct DeviceOutput {
 class DeviceInput {
   public:
     /// `interaction` and `session` must outlive this object.
+    /// `xr` maps recorded OpenXR controllers (driver "openxr", XrInput.h).
     DeviceInput(const core::DevicesConfig& cfg, std::vector<devices::DeviceRule> rules,
-                studio::Interaction& interaction, studio::Studio& studio);
+                studio::Interaction& interaction, studio::Studio& studio,
+                const core::XrConfig& xr = {});
     ~DeviceInput();
 
     void handle(const devices::DeviceEvent& event);

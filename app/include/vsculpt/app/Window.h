@@ -13,6 +13,7 @@
 
 #include <functional>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,12 @@ struct WindowOptions {
     std::string projectDir;
     bool noProject = false;  ///< nothing saved (a scratch session)
     bool ui = true;          ///< the on-screen UI (off: measuring what it costs)
+    /// An OpenXR headset instead of the window (`--xr`, docs/xr.md); unset: the config's
+    /// render.output decides; false: the desktop window whatever the config says.
+    std::optional<bool> xr;
+    /// With the headset: record the controllers to this .vsrec, a report a frame (docs/xr.md);
+    /// `vsculpt play` replays it to the same sculpture. The window ignores it.
+    std::string recordPath;
 
     /// Tests: called at the start of every frame (0-based) with the UI as last drawn; events
     /// pushed to `inject` go through the window's real input handling this frame.
@@ -56,6 +63,8 @@ struct WindowOptions {
 
 /// Exit code 0; 1 when no window can be opened (the message says why and points to
 /// `vsculpt play`); 2 for bad input (config, script, a project that cannot be opened).
+/// With `xr` (or render.output "xr") it is runXr's (XrWindow.h), which comes back here when
+/// there is no headset.
 int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err);
 
 }  // namespace vsculpt::app

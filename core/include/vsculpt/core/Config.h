@@ -120,7 +120,25 @@ struct InteractionConfig {
 };
 
 /// The display: stereo, eyes, and a headset's lenses (the window, docs/window.md).
+/// The OpenXR headset path (docs/xr.md): how the controllers sculpt.
+struct XrConfig {
+    /// Where the sculpture's origin sits in OpenXR's local space (metres, y up, -z ahead of
+    /// where the head was at start): a little below the eyes, at arm's length.
+    Vec3 sculptureInLocalM{0.0, -0.25, -0.5};
+    double penTipMm = 0;            ///< the tool centre this far ahead of the right hand's aim pose
+    double triggerThreshold = 0.5;  ///< the trigger engages the tool from this value on
+    /// The trigger's analog value pushes the tool this far further along the pen (full
+    /// press); 0: off (the trigger only engages).
+    double triggerPenetrationMm = 0;
+    /// Haptic amplitude on the pen hand while the tool touches the clay / is inside it.
+    double hapticTouching = 0.3, hapticInside = 0.8;
+    double hapticPulseMs = 20;  ///< each pulse's length; renewed every frame of contact
+};
+
 struct RenderConfig {
+    /// "window" (the desktop window) or "xr" (an OpenXR headset, `vsculpt --xr`).
+    std::string output = "window";
+    XrConfig xr;
     std::string stereo = "mono";    ///< mono, sbs or anaglyph
     double ipdMm = 63.0;            ///< interpupillary distance
     double verticalFovDeg = 40.0;   ///< per-eye vertical field of view

@@ -13,7 +13,9 @@
 namespace vsculpt::devices {
 
 /// The decoder a device's reports go to.
-enum class DeviceDriver { SpaceMouse, Polhemus, WacomLegacy, HidDigitizer, RiftImu };
+/// OpenXr is not a USB device: the OpenXR controllers as recorded by `vsculpt --xr --record`
+/// (one report a frame, app/XrInput.h), so a headset session replays like device reports.
+enum class DeviceDriver { SpaceMouse, Polhemus, WacomLegacy, HidDigitizer, RiftImu, OpenXr };
 
 /// How the bytes are read. Hidraw leaves the kernel's HID driver attached (the desktop keeps
 /// the device); Libusb claims the interface, detaching the kernel driver while vsculpt runs.

@@ -67,6 +67,16 @@ struct UiImage {
     int usedX0 = 0, usedY0 = 0, usedX1 = 0, usedY1 = 0;
 };
 
+/// The window's GLX handles (X11), for a headset session on the viewer's GL context
+/// (OpenXR's XrGraphicsBindingOpenGLXlibKHR). Opaque pointers: no Xlib in this header.
+struct NativeGl {
+    void* display = nullptr;  ///< Display*
+    uint32_t visualId = 0;
+    void* fbConfig = nullptr;  ///< GLXFBConfig
+    unsigned long drawable = 0;
+    void* context = nullptr;  ///< GLXContext
+};
+
 struct FrameStats {
     size_t chunksUploaded = 0, chunksDrawn = 0, triangles = 0;
     double cpuMs = 0;  ///< CPU time spent in draw() (upload + draw calls)
@@ -103,6 +113,20 @@ class Viewer {
     FrameStats draw(const glm::dmat4& worldFromObject, const core::Aabb& frameBox,
                     const ToolDraw& tool, StereoMode mode, const StereoDisplay& display,
                     const LensCorrection& lens = {}, const UiImage* ui = nullptr);
+    /// One eye of a headset frame: the chunks, surface lines and tool seen by `eye` (world mm)
+    /// drawn into `colorTexture`, a `width` x `height` GL_TEXTURE_2D of this context (a
+    /// swapchain image), with the viewer's own depth buffer. No UI, no lens correction (the
+    /// headset's compositor corrects).
+    FrameStats drawEye(const glm::dmat4& worldFromObject, const ToolDraw& tool, const EyeView& eye,
+                       unsigned colorTexture, int width, int height);
+    /// Copies a `width` x `height` texture into the window, scaled to fit (the headset's
+    /// mirror on the desktop).
+    void blitToWindow(unsigned colorTexture, int width, int height);
+    /// Copies a `width` x `height` texture into another of at least that size (the UI's image
+    /// into a headset panel's swapchain image).
+    void copyTexture(unsigned source, unsigned destination, int width, int height);
+    /// The GLX handles of this window's context; throws RenderError when not on X11/GLX.
+    NativeGl nativeGl() const;
     /// The size in framebuffer pixels of one eye's image in `mode` (the view area, or half of
     /// it side by side): the size to render the UI at.
     glm::ivec2 eyeImageSize(StereoMode mode) const;

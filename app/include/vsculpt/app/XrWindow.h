@@ -1,0 +1,23 @@
+// SPDX-License-Identifier: MIT
+/// @file XrWindow.h
+/// @brief Sculpting in an OpenXR headset: `vsculpt --xr` or render.output "xr" (docs/xr.md).
+/// The frame loop is paced by xrWaitFrame; each frame syncs the controllers (XrInput.h),
+/// draws both eyes into the runtime's swapchains and submits them as one projection layer,
+/// with the status (tool, size, zoom, ...) as a quad layer beside the sculpture. The desktop
+/// window mirrors the left eye (unless --hidden). The palette and dialogs are not in the
+/// headset in this first version.
+#pragma once
+
+#include "vsculpt/app/Window.h"
+
+#include <iosfwd>
+
+namespace vsculpt::app {
+
+/// Exit codes: 0 when the session ends (--frames reached, the window closed, the runtime
+/// ended it); 1 when the headset is lost mid-session or an OpenXR call fails; 2 for bad
+/// input (config, script, project). No runtime or no headset: a warning saying why, then the
+/// desktop window (runWindow) and its exit code.
+int runXr(const WindowOptions& options, std::ostream& out, std::ostream& err);
+
+}  // namespace vsculpt::app

@@ -1,0 +1,172 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/app/XrInput.h"
+
+#include "vsculpt/devices/XrBindings.h"
+#include "vsculpt/studio/Session.h"
+
+#include <spdlog/spdlog.h>
+
+#include <glm/gtc/quaternion.hpp>
+
+#include <bit>
+
+namespace vsculpt::app {
+
+namespace {
+
+core::RigidTransform rigidOf(const glm::dmat4& m) {
+    core::RigidTransform t;
+    t.rotation = glm::normalize(glm::quat_cast(glm::dmat3(m)));
+    t.translation = core::Vec3(m[3]);
+    return t;
+}
+
+void putU64(std::vector<uint8_t>& out, uint64_t v) {
+    for (int i = 0; i < 8; ++i)
+        out.push_back(uint8_t(v >> (8 * i)));
+}
+
+uint64_t getU64(std::span<const uint8_t> b, size_t at) {
+    uint64_t v = 0;
+    for (int i = 0; i < 8; ++i)
+        v |= uint64_t(b[at + size_t(i)]) << (8 * i);
+    return v;
+}
+
+constexpr size_t kPoseBytes = 12 * 8;
+
+}  // namespace
+
+std::vector<uint8_t> xrHandsReport(const XrHands& h) {
+    std::vector<uint8_t> out;
+    out.push_back(uint8_t((h.worldFromPen ? 1 : 0) | (h.worldFromMouse ? 2 : 0) | (h.grip ? 4 : 0) |
+                          (h.undo ? 8 : 0) | (h.cycleTool ? 16 : 0) | (h.step ? 32 : 0) |
+                          (h.overview ? 64 : 0)));
+    const auto trigger = std::bit_cast<uint32_t>(h.trigger);
+    for (int i = 0; i < 4; ++i)
+        out.push_back(uint8_t(trigger >> (8 * i)));
+    for (const auto& pose : {h.worldFromPen, h.worldFromMouse})
+        if (pose)
+            for (int c = 0; c < 4; ++c)
+                for (int r = 0; r < 3; ++r)
+                    putU64(out, std::bit_cast<uint64_t>((*pose)[c][r]));
+    return out;
+}
+
+std::optional<XrHands> parseXrHandsReport(std::span<const uint8_t> b) {
+    if (b.size() < 5) return std::nullopt;
+    const uint8_t f = b[0];
+    const size_t poses = ((f & 1) ? 1 : 0) + ((f & 2) ? 1 : 0);
+    if (b.size() != 5 + poses * kPoseBytes || (f & 0x80)) return std::nullopt;
+    XrHands h;
+    h.grip = f & 4;
+    h.undo = f & 8;
+    h.cycleTool = f & 16;
+    h.step = f & 32;
+    h.overview = f & 64;
+    uint32_t trigger = 0;
+    for (int i = 0; i < 4; ++i)
+        trigger |= uint32_t(b[size_t(1 + i)]) << (8 * i);
+    h.trigger = std::bit_cast<float>(trigger);
+    size_t at = 5;
+    auto pose = [&] {
+        glm::dmat4 m(1.0);
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 3; ++r, at += 8)
+                m[c][r] = std::bit_cast<double>(getU64(b, at));
+        return m;
+    };
+    if (f & 1) h.worldFromPen = pose();
+    if (f & 2) h.worldFromMouse = pose();
+    return h;
+}
+
+XrHands handsInWorld(const devices::XrControllers& c, const core::XrConfig& cfg) {
+    XrHands h;
+    if (c.localFromPen)
+        h.worldFromPen = devices::worldPoseFromXrLocal(*c.localFromPen, cfg.sculptureInLocalM);
+    if (c.localFromMouse)
+        h.worldFromMouse = devices::worldPoseFromXrLocal(*c.localFromMouse, cfg.sculptureInLocalM);
+    h.trigger = c.trigger;
+    h.grip = c.grip;
+    h.undo = c.undo;
+    h.cycleTool = c.cycleTool;
+    h.step = c.step;
+    h.overview = c.overview;
+    return h;
+}
+
+core::Vec3 penToolWorld(const glm::dmat4& worldFromPen, float trigger, const core::XrConfig& cfg) {
+    core::Vec3 p(worldFromPen[3]);
+    // Ahead is the pen's -z. Nothing is added when nothing is asked for: the tool is then
+    // exactly the pose's position (recordings and scripts compare bit for bit).
+    const double ahead = cfg.penTipMm + cfg.triggerPenetrationMm * double(trigger);
+    if (ahead != 0) p -= glm::normalize(core::Vec3(worldFromPen[2])) * ahead;
+    return p;
+}
+
+double hapticAmplitude(studio::ToolContact contact, const core::XrConfig& cfg) {
+    switch (contact) {
+        case studio::ToolContact::Air:
+            return 0;
+        case studio::ToolContact::Touching:
+            return cfg.hapticTouching;
+        case studio::ToolContact::Inside:
+            return cfg.hapticInside;
+    }
+    return 0;
+}
+
+XrInput::XrInput(const core::XrConfig& cfg, studio::Interaction& interaction,
+                 studio::Studio& studio)
+    : mCfg(cfg), mInteraction(interaction), mStudio(studio) {}
+
+void XrInput::handle(const XrHands& h) {
+    const studio::Session& session = mStudio.session();
+    auto guarded = [](const char* what, auto&& f) {
+        try {
+            f();
+        } catch (const std::logic_error&) {
+            throw;  // a broken invariant, not a refused command
+        } catch (const std::exception& e) {
+            spdlog::warn("{}: {}", what, e.what());
+        }
+    };
+    if (h.undo) guarded("undo", [&] { mStudio.undo(); });
+    if (h.cycleTool) guarded("cycle tool", [&] { mInteraction.cycleTool(); });
+    if (h.step)
+        guarded("step", [&] {
+            mInteraction.step(
+                session.objectPose().inverse().apply(mTool.value_or(core::Vec3(0.0))));
+        });
+    if (h.overview) guarded("overview", [&] { mInteraction.overview(); });
+
+    // The left hand holds the sculpture while the grip is closed (position control, like the
+    // tracker's object station).
+    if (h.grip && h.worldFromMouse) {
+        const core::RigidTransform worldFromHand = rigidOf(*h.worldFromMouse);
+        if (!mHandFromObject) mHandFromObject = worldFromHand.inverse() * session.objectPose();
+        mStudio.setObjectPose(worldFromHand * *mHandFromObject);
+    } else {
+        mHandFromObject.reset();
+    }
+
+    if (!h.worldFromPen) {
+        // Lost tracking ends the stroke: nothing is sculpted from a stale pose.
+        if (mEngaged) guarded("pen", [&] { mInteraction.setEngaged(false); });
+        mEngaged = false;
+        return;
+    }
+    const core::Vec3 tool = penToolWorld(*h.worldFromPen, h.trigger, mCfg);
+    // A little hysteresis so a trigger held at the threshold does not chatter.
+    const double t = mCfg.triggerThreshold;
+    const bool engaged = mEngaged ? h.trigger >= 0.8 * t : h.trigger >= t;
+    const bool changed = engaged != mEngaged;
+    if (changed) guarded("pen", [&] { mInteraction.setEngaged(engaged); });
+    mEngaged = engaged;
+    // A sample per pose that moved (or on engaging): a pen held still adds nothing.
+    if (changed || !mTool || *mTool != tool) guarded("pen", [&] { mInteraction.moveTool(tool); });
+    mTool = tool;
+}
+
+}  // namespace vsculpt::app

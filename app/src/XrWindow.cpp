@@ -1,0 +1,330 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/app/XrWindow.h"
+
+#include "vsculpt/app/Rig.h"
+#include "vsculpt/app/XrInput.h"
+#include "vsculpt/core/Mesh.h"
+#include "vsculpt/core/WriteFileAtomically.h"
+#include "vsculpt/devices/Recording.h"
+#include "vsculpt/devices/XrBindings.h"
+#include "vsculpt/devices/XrHeadset.h"
+#include "vsculpt/render/UiLayer.h"
+#include "vsculpt/render/Viewer.h"
+#include "vsculpt/studio/PickTool.h"
+#include "vsculpt/studio/Script.h"
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>  // key codes only
+
+#include <imgui.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <thread>
+
+namespace vsculpt::app {
+
+using namespace vsculpt::studio;
+
+namespace {
+
+// Clip planes of the headset's eyes, mm: the pen's tool a hand's width away, the room.
+constexpr double kNearMm = 10, kFarMm = 20000;
+
+render::EyeView eyeView(const devices::XrEyeView& e, const core::XrConfig& cfg) {
+    const glm::dmat4 worldFromEye =
+        devices::worldPoseFromXrLocal(e.localFromEye, cfg.sculptureInLocalM);
+    render::EyeView v;
+    v.viewFromWorld = glm::inverse(worldFromEye);
+    v.clipFromView = devices::projectionFromXrFov(e.angleLeft, e.angleRight, e.angleUp, e.angleDown,
+                                                  kNearMm, kFarMm);
+    v.worldPosition = core::Vec3(worldFromEye[3]);
+    return v;
+}
+
+devices::GlxBinding glxOf(const render::NativeGl& n) {
+    return {n.display, n.visualId, n.fbConfig, n.drawable, n.context};
+}
+
+const char* toolName(ToolKind t) {
+    return t == ToolKind::Add      ? "add"
+           : t == ToolKind::Carve  ? "carve"
+           : t == ToolKind::Smooth ? "smooth"
+                                   : "select";
+}
+
+/// The status panel's text (ImGui, between UiLayer::beginFrame and endFrame): what the
+/// window's title bar says, where the sculptor can read it.
+void statusPanel(const Session& s, double frameMs, bool engaged, bool grabbing, int w, int h) {
+    ImGui::SetNextWindowPos(ImVec2(0, 0));
+    ImGui::SetNextWindowSize(ImVec2(float(w), float(h)));
+    ImGui::SetNextWindowBgAlpha(0.75f);
+    ImGui::Begin("status", nullptr,
+                 ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoInputs |
+                     ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
+    const double mm = s.sculpture().levels().level(s.size()).diameterMm;
+    ImGui::Text("%s  size %d (%.1f mm)  zoom %d", toolName(s.tool()), s.size(), mm, s.zoom());
+    ImGui::Text("mirror %s",
+                s.mirror() == core::MirrorAxis::None ? "off" : core::toString(s.mirror()));
+    ImGui::Text("%zu skeletons", s.sculpture().counts().total());
+    ImGui::Text("%s%s", engaged ? "sculpting" : "pen up",
+                grabbing ? "  holding the sculpture" : "");
+    ImGui::Text("%.1f ms/frame", frameMs);
+    ImGui::End();
+}
+
+}  // namespace
+
+int runXr(const WindowOptions& options, std::ostream& out, std::ostream& err) {
+    LogScope log(err, options.verbosity, "vsculpt");
+    const WindowOptions& o = options;
+    core::SculptConfig cfg;
+    Script script;
+    try {
+        cfg = core::loadConfig(o.configPath.empty() ? core::defaultConfigPath()
+                                                    : std::filesystem::path(o.configPath));
+        if (!o.playScript.empty()) script = loadScript(o.playScript);
+        if (!o.recordPath.empty()) core::ensureWritable(o.recordPath);
+    } catch (const std::exception& e) {
+        spdlog::error("{}", e.what());
+        return 2;
+    }
+    if (!o.shotPath.empty()) spdlog::warn("--shot is not taken in a headset session");
+    std::unique_ptr<devices::XrHeadset> xr;
+    try {
+        xr = std::make_unique<devices::XrHeadset>(devices::XrHeadset::Options{});
+    } catch (const std::exception& e) {
+        // XrUnavailable (no runtime, no headset) or a runtime that fails at once: the
+        // desktop window is the way to go on sculpting.
+        spdlog::warn("no headset: {}", e.what());
+        spdlog::info("opening the desktop window instead (docs/xr.md){}",
+                     o.recordPath.empty() ? "" : "; nothing is recorded");
+        WindowOptions w = options;
+        w.xr = false;
+        return runWindow(w, out, err);
+    }
+    spdlog::info("openxr: {} on {} (OpenGL {})", xr->systemName(), xr->runtimeName(),
+                 xr->glRequirements());
+    std::unique_ptr<render::Viewer> viewer;
+    try {
+        // The GL context the swapchains live in; its window mirrors the left eye.
+        viewer =
+            std::make_unique<render::Viewer>(o.width, o.height, "vsculpt — headset", !o.hidden);
+    } catch (const render::RenderError& e) {
+        spdlog::error("no GL context for the headset: {}", e.what());
+        return 1;
+    }
+    std::unique_ptr<Rig> rig;
+    try {
+        rig = std::make_unique<Rig>(cfg, windowRigOptions(o.projectDir, o.noProject, o.devices));
+    } catch (const std::exception& e) {
+        spdlog::error("{}", e.what());
+        return 2;
+    }
+    logLines(spdlog::level::info, rig->projectSummary());
+    try {
+        xr->startSession(glxOf(viewer->nativeGl()));
+    } catch (const std::exception& e) {
+        spdlog::error("openxr: {}", e.what());
+        return 1;
+    }
+    XrInput input(cfg.render.xr, rig->interaction(), rig->studio());
+    // The status as a panel beside the sculpture (an OpenXR quad layer): drawn with the
+    // window's UI layer into its own image, copied into the panel's swapchain image.
+    std::unique_ptr<render::UiLayer> ui;
+    const devices::XrPanel panel;
+    if (o.ui) {
+        try {
+            ui = std::make_unique<render::UiLayer>(*viewer);
+            ui->setScale(float(1.5 * cfg.render.uiScale));
+            xr->createPanel(panel);
+        } catch (const std::exception& e) {
+            spdlog::warn("no status panel in the headset: {}", e.what());
+            ui.reset();
+        }
+    }
+    double frameMs = 0;
+    // The controllers as a device of their own in a recording: `vsculpt play` maps the same
+    // hands through DeviceInput (driver "openxr") with the same config.
+    std::unique_ptr<devices::RecordingWriter> recording;
+    const std::string recorded = "xr";
+    if (!o.recordPath.empty()) {
+        devices::DeviceRule rule;
+        rule.name = recorded;
+        rule.driver = devices::DeviceDriver::OpenXr;
+        rule.access = devices::DeviceAccess::Hidraw;
+        rule.products = {0};  // not a USB device: the format wants ids, 0000 says none
+        try {
+            recording = std::make_unique<devices::RecordingWriter>(
+                o.recordPath, std::vector<devices::DeviceRule>{rule},
+                std::map<std::string, std::string>{
+                    {"config", nlohmann::json::parse(core::configToJson(cfg)).dump()},
+                    {"vsculpt", "0.1.0"},
+                    {"headset", xr->systemName() + " on " + xr->runtimeName()}});
+            recording->write({devices::DeviceEventKind::Arrived, devices::monotonicNowNs(),
+                              recorded, devices::arrivalBytes(0, 0)});
+        } catch (const devices::RecordingError& e) {
+            spdlog::error("{}", e.what());
+            return 2;
+        }
+    }
+    const auto pulseNs = int64_t(cfg.render.xr.hapticPulseMs * 1e6);
+    size_t frames = 0, rendered = 0, commandIndex = 0, pulses = 0;
+    double cpuMsTotal = 0;
+    bool vibrating = false;
+    std::string why;
+    int code = 0;
+    try {
+        while (xr->pollEvents(why)) {
+            for (const render::InputEvent& ev : viewer->pollEvents()) {
+                using K = render::InputEvent::Kind;
+                if (ev.kind == K::Close ||
+                    (ev.kind == K::Key && ev.pressed && ev.code == GLFW_KEY_ESCAPE))
+                    xr->requestExit();
+            }
+            if (!xr->running()) {
+                // Idle: the runtime has not made the session ready (or has stopped it).
+                std::this_thread::sleep_for(std::chrono::milliseconds(10));
+                continue;
+            }
+            const devices::XrFrameTiming timing = xr->waitFrame();
+            const auto t0 = std::chrono::steady_clock::now();
+            xr->beginFrame();
+            Studio& studio = rig->studio();
+            const Session& session = rig->session();
+            if (commandIndex < script.commands.size()) {
+                const ScriptCommand& c = script.commands[commandIndex++];
+                try {
+                    studio.apply(c);
+                } catch (const std::exception& e) {
+                    spdlog::error("{}:{}: {}", script.source, c.line, e.what());
+                    xr->requestExit();
+                    code = 2;
+                }
+            }
+            const XrHands hands =
+                handsInWorld(xr->syncInput(timing.predictedDisplayTime), cfg.render.xr);
+            if (recording)
+                recording->write({devices::DeviceEventKind::Report, devices::monotonicNowNs(),
+                                  recorded, xrHandsReport(hands)});
+            input.handle(hands);
+            // Trackers and 3D mice keep working beside the controllers.
+            rig->pumpDevices();
+
+            const glm::dmat4 worldFromObject = session.objectPose().matrix();
+            const glm::dmat4 objectFromWorld = glm::inverse(worldFromObject);
+            const double toolRadius =
+                0.5 * session.sculpture().levels().level(session.size()).diameterMm;
+            render::ToolDraw tool;
+            tool.visible = input.toolWorld().has_value();
+            tool.radiusMm = toolRadius;
+            tool.selectBox = session.tool() == ToolKind::Select;
+            ToolContact contact = ToolContact::Air;
+            if (input.toolWorld()) {
+                tool.worldPos = *input.toolWorld();
+                const core::Vec3 down =
+                    glm::normalize(core::Vec3(objectFromWorld * glm::dvec4(0, 0, -1, 0)));
+                const ToolPick pick =
+                    toolCues(session, core::Vec3(objectFromWorld * glm::dvec4(tool.worldPos, 1)),
+                             toolRadius, down);
+                contact = pick.contact;
+                tool.contact = int(contact);
+                if (pick.shadow) {
+                    tool.shadow = true;
+                    tool.shadowPos = core::Vec3(worldFromObject * glm::dvec4(*pick.shadow, 1));
+                }
+            }
+            // Contact feedback on the pen hand: a pulse renewed every frame of contact, its
+            // amplitude after the contact; stopped when the tool leaves the clay.
+            const double amplitude = xr->focused() ? hapticAmplitude(contact, cfg.render.xr) : 0;
+            if (amplitude > 0) {
+                xr->vibrate(float(amplitude), pulseNs);
+                ++pulses;
+            } else if (vibrating) {
+                xr->stopVibration();
+            }
+            vibrating = amplitude > 0;
+
+            // The one place the mesh reaches the GPU.
+            viewer->syncChunks(session.view());
+            if (timing.shouldRender) {
+                std::array<devices::XrEyeView, 2> eyes =
+                    xr->locateEyes(timing.predictedDisplayTime);
+                for (int e = 0; e < 2; ++e) {
+                    const unsigned texture = xr->acquireEye(e);
+                    devices::XrEyeView& eye = eyes[size_t(e)];
+                    viewer->drawEye(worldFromObject, tool, eyeView(eye, cfg.render.xr), texture,
+                                    eye.width, eye.height);
+                    if (e == 0 && !o.hidden) viewer->blitToWindow(texture, eye.width, eye.height);
+                    xr->releaseEye(e);
+                }
+                if (ui) {
+                    const unsigned texture = xr->acquirePanel();
+                    ui->beginFrame(panel.widthPx, panel.heightPx, std::max(1e-3, frameMs / 1000));
+                    statusPanel(session, frameMs, input.engaged(), input.grabbing(), panel.widthPx,
+                                panel.heightPx);
+                    const render::UiImage image = ui->endFrame();
+                    viewer->copyTexture(image.texture, texture, panel.widthPx, panel.heightPx);
+                    xr->releasePanel();
+                }
+                xr->endFrame(timing, &eyes, ui != nullptr);
+                ++rendered;
+            } else {
+                xr->endFrame(timing, nullptr);
+            }
+            if (!o.hidden) viewer->swap();
+            if (recording) recording->flush();
+            ++frames;
+            frameMs =
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                    .count();
+            cpuMsTotal += frameMs;
+            if (o.frames > 0 && frames >= size_t(o.frames)) xr->requestExit();
+            if (frames % 45 == 1) {
+                char title[160];
+                std::snprintf(title, sizeof title,
+                              "vsculpt — headset · size %d · zoom %d · %zu skeletons",
+                              session.size(), session.zoom(), session.sculpture().counts().total());
+                viewer->setTitle(title);
+            }
+        }
+        if (why.find("lost") != std::string::npos || why.find("loss") != std::string::npos) {
+            spdlog::error("openxr: {}", why);
+            code = 1;
+        } else {
+            spdlog::info("openxr: {}", why);
+        }
+    } catch (const devices::XrFailure& e) {
+        spdlog::error("openxr: {}", e.what());
+        code = 1;
+    }
+    // Closing ends the stroke in flight: it is journaled like any other.
+    rig->studio().endStroke();
+    if (recording) {
+        recording->write({devices::DeviceEventKind::Left, devices::monotonicNowNs(), recorded, {}});
+        recording->flush();
+        spdlog::info("wrote {} ({} event(s))", o.recordPath, recording->eventsWritten());
+    }
+    const Session& s = rig->session();
+    spdlog::info(
+        "openxr: {} frame(s), {} with both eyes drawn, {:.2f} ms CPU per frame, {} haptic "
+        "pulse(s), {} debug message(s)",
+        frames, rendered, frames ? cpuMsTotal / double(frames) : 0.0, pulses, xr->debugMessages());
+    const core::RigidTransform pose = s.objectPose();
+    spdlog::info(
+        "object pose: rotation ({:.6f} {:.6f} {:.6f} {:.6f}), translation ({:.3f} {:.3f} "
+        "{:.3f}) mm",
+        pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z, pose.translation.x,
+        pose.translation.y, pose.translation.z);
+    char hash[32];
+    std::snprintf(hash, sizeof hash, "%016llx",
+                  static_cast<unsigned long long>(core::canonicalMeshHash(s.wholeMesh())));
+    spdlog::info("{} skeletons, {} step(s), tool {}, size {}, zoom {}, mesh hash {}",
+                 s.sculpture().counts().total(), rig->studio().stepCount(), toolName(s.tool()),
+                 s.size(), s.zoom(), hash);
+    return code;
+}
+
+}  // namespace vsculpt::app

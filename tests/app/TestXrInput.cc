@@ -1,0 +1,255 @@
+// SPDX-License-Identifier: MIT
+// The OpenXR path's pure parts, without a runtime: the suggested bindings, OpenXR poses and
+// fields of view into glm and the studio's world, the haptic and pen mappings, and XrInput
+// driving a studio the thesis's two-handed way. The runtime end to end: tests/xr/TestXr.cc.
+#include "vsculpt/app/XrInput.h"
+#include "vsculpt/core/Mesh.h"
+#include "vsculpt/devices/XrBindings.h"
+#include "vsculpt/studio/Session.h"
+
+#include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cmath>
+#include <set>
+
+using namespace vsculpt;
+using namespace vsculpt::app;
+using namespace vsculpt::devices;
+using namespace vsculpt::studio;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+void expectNear(const glm::dvec3& a, const glm::dvec3& b, double tol = 1e-9) {
+    EXPECT_NEAR(a.x, b.x, tol);
+    EXPECT_NEAR(a.y, b.y, tol);
+    EXPECT_NEAR(a.z, b.z, tol);
+}
+
+glm::dmat4 at(const glm::dvec3& p, const glm::dquat& q = glm::dquat(1, 0, 0, 0)) {
+    return matrixFromXrPose(p, q);
+}
+
+core::SculptConfig config() {
+    core::SculptConfig cfg;
+    cfg.sphereRadiusMm = 30;
+    cfg.polygonizer.gridN = 32;
+    return cfg;
+}
+
+TEST(XrBindings, EveryProfileDrivesBothHands) {
+    const auto& table = xrSuggestedBindings();
+    std::set<std::string> profiles;
+    for (const XrProfileBindings& p : table) {
+        profiles.insert(p.profile);
+        std::set<XrActionId> bound;
+        for (const XrSuggestedBinding& b : p.bindings) {
+            EXPECT_TRUE(bound.insert(b.action).second)
+                << p.profile << ": " << xrActionName(b.action);
+            // The pen is the right hand, the 3D mouse the left (the thesis's hands).
+            const bool right = b.path.rfind("/user/hand/right/", 0) == 0;
+            const bool left = b.path.rfind("/user/hand/left/", 0) == 0;
+            EXPECT_TRUE(right || left) << b.path;
+            const bool penAction =
+                b.action == XrActionId::PenPose || b.action == XrActionId::PenTrigger ||
+                b.action == XrActionId::PenHaptic || b.action == XrActionId::Undo;
+            EXPECT_EQ(right, penAction) << p.profile << " " << b.path;
+        }
+        for (XrActionId must :
+             {XrActionId::PenPose, XrActionId::PenTrigger, XrActionId::PenHaptic,
+              XrActionId::MousePose, XrActionId::MouseGrip, XrActionId::CycleTool})
+            EXPECT_TRUE(bound.count(must)) << p.profile << " lacks " << xrActionName(must);
+    }
+    EXPECT_EQ(profiles, (std::set<std::string>{"/interaction_profiles/valve/index_controller",
+                                               "/interaction_profiles/oculus/touch_controller",
+                                               "/interaction_profiles/htc/vive_controller",
+                                               "/interaction_profiles/khr/simple_controller"}));
+    // Action names: unique, and what xrCreateAction accepts (lower case, digits, - _ .).
+    std::set<std::string> names;
+    for (int i = 0; i < kXrActionCount; ++i) {
+        const std::string n = xrActionName(XrActionId(i));
+        EXPECT_TRUE(names.insert(n).second) << n;
+        for (char c : n)
+            EXPECT_TRUE((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
+                        c == '.')
+                << n;
+    }
+}
+
+TEST(XrBindings, PosesAndFieldsOfView) {
+    // A quarter turn about +y takes x to -z (right-handed, y up).
+    const glm::dmat4 m = at({1, 2, 3}, glm::angleAxis(kPi / 2, glm::dvec3(0, 1, 0)));
+    expectNear(glm::dvec3(m * glm::dvec4(1, 0, 0, 0)), {0, 0, -1});
+    expectNear(glm::dvec3(m * glm::dvec4(0, 0, 0, 1)), {1, 2, 3});
+    // A symmetric 90-degree field of view is glm's perspective.
+    const glm::dmat4 p = projectionFromXrFov(-kPi / 4, kPi / 4, kPi / 4, -kPi / 4, 10, 1000);
+    const glm::dmat4 q = glm::perspective(kPi / 2, 1.0, 10.0, 1000.0);
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            EXPECT_NEAR(p[c][r], q[c][r], 1e-12) << c << "," << r;
+    // An asymmetric one keeps its edges: the left edge's direction lands on NDC x = -1.
+    const glm::dmat4 a = projectionFromXrFov(-0.9, 0.6, 0.7, -0.8, 10, 1000);
+    const glm::dvec4 left = a * glm::dvec4(-std::tan(0.9), 0, -1, 1);
+    EXPECT_NEAR(left.x / left.w, -1, 1e-12);
+    const glm::dvec4 up = a * glm::dvec4(0, std::tan(0.7), -1, 1);
+    EXPECT_NEAR(up.y / up.w, 1, 1e-12);
+}
+
+TEST(XrBindings, LocalSpaceIntoTheStudiosWorld) {
+    const glm::dvec3 sculpture(0, -0.25, -0.5);
+    const glm::dmat4 w = worldFromXrLocal(sculpture);
+    expectNear(glm::dvec3(w * glm::dvec4(sculpture, 1)), {0, 0, 0});
+    // Metres to mm; up (local +y) is the world's +z; ahead (local -z) the world's +y (the
+    // user looks at the sculpture from -y, like the window's camera).
+    expectNear(glm::dvec3(w * glm::dvec4(0, 1, 0, 0)), {0, 0, 1000});
+    expectNear(glm::dvec3(w * glm::dvec4(0, 0, -1, 0)), {0, 1000, 0});
+    expectNear(glm::dvec3(w * glm::dvec4(1, 0, 0, 0)), {1000, 0, 0});
+    // Poses stay rigid: rotation mapped, position scaled.
+    const glm::dmat4 hand =
+        at({0.1, -0.2, -0.4}, glm::angleAxis(0.3, glm::normalize(glm::dvec3(1, 2, 3))));
+    const glm::dmat4 pose = worldPoseFromXrLocal(hand, sculpture);
+    expectNear(glm::dvec3(pose[3]), glm::dvec3(w * hand[3]), 1e-9);
+    const glm::dmat3 r(pose);
+    const glm::dmat3 rtR = glm::transpose(r) * r;
+    for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 3; ++k)
+            EXPECT_NEAR(rtR[c][k], c == k ? 1 : 0, 1e-12);
+    EXPECT_NEAR(glm::determinant(r), 1, 1e-12);
+}
+
+TEST(XrInput, HapticsAndThePenTip) {
+    core::XrConfig x;
+    EXPECT_EQ(hapticAmplitude(ToolContact::Air, x), 0);
+    EXPECT_EQ(hapticAmplitude(ToolContact::Touching, x), 0.3);
+    EXPECT_EQ(hapticAmplitude(ToolContact::Inside, x), 0.8);
+    // No offsets: exactly the pose's position (a recording compares bit for bit).
+    const glm::dmat4 pen = glm::translate(glm::dmat4(1.0), glm::dvec3(1.5, -2.25, 3.125)) *
+                           glm::mat4_cast(glm::angleAxis(kPi / 2, glm::dvec3(1, 0, 0)));
+    EXPECT_EQ(penToolWorld(pen, 0.7f, x), core::Vec3(1.5, -2.25, 3.125));
+    // The tip ahead along the pen's -z (here world +y after the quarter turn about x), and
+    // the trigger's value pushing it further when configured.
+    x.penTipMm = 20;
+    expectNear(penToolWorld(pen, 0.7f, x), glm::dvec3(1.5, -2.25 + 20, 3.125), 1e-9);
+    x.triggerPenetrationMm = 10;
+    expectNear(penToolWorld(pen, 0.5f, x), glm::dvec3(1.5, -2.25 + 25, 3.125), 1e-9);
+}
+
+TEST(XrInput, TriggerStrokeIsTheScriptedStroke) {
+    const core::SculptConfig cfg = config();
+    const std::vector<core::Vec3> path = {
+        {-10, 0, 28}, {-5, 0, 29}, {0, 0, 29.5}, {5, 0, 29}, {10, 0, 28}};
+    Studio a(cfg);
+    Interaction ui(a);
+    XrInput input(cfg.render.xr, ui, a);
+    XrHands h;
+    h.worldFromPen = glm::translate(glm::dmat4(1.0), glm::dvec3(-10, 0, 60));
+    input.handle(h);  // in the air, trigger up: nothing
+    EXPECT_EQ(a.stepCount(), 0u);
+    for (const core::Vec3& p : path) {
+        h.worldFromPen = glm::translate(glm::dmat4(1.0), p);
+        h.trigger = 1;
+        input.handle(h);
+        input.handle(h);  // held still: no second sample
+    }
+    EXPECT_TRUE(input.engaged());
+    h.trigger = 0.45f;  // above 0.8 x threshold: still engaged (hysteresis)
+    input.handle(h);
+    EXPECT_TRUE(input.engaged());
+    h.trigger = 0.3f;
+    input.handle(h);
+    EXPECT_FALSE(input.engaged());
+    EXPECT_EQ(a.stepCount(), 1u);
+
+    Studio b(cfg);
+    b.stroke(path, /*world=*/true);
+    EXPECT_EQ(core::canonicalMeshHash(a.session().wholeMesh()),
+              core::canonicalMeshHash(b.session().wholeMesh()));
+}
+
+TEST(XrInput, GripHoldsTheSculptureAndButtonsFollowTheThesis) {
+    const core::SculptConfig cfg = config();
+    Studio studio(cfg);
+    const Session& s = studio.session();
+    Interaction ui(studio);
+    XrInput input(cfg.render.xr, ui, studio);
+    XrHands h;
+    h.worldFromMouse = glm::translate(glm::dmat4(1.0), glm::dvec3(-100, 0, 0));
+    h.grip = true;
+    input.handle(h);  // grabbed where it is: no jump
+    expectNear(s.objectPose().translation, {0, 0, 0}, 1e-9);
+    EXPECT_TRUE(input.grabbing());
+    // The hand turns a quarter about +z and rises: the sculpture swings with it.
+    h.worldFromMouse = glm::translate(glm::dmat4(1.0), glm::dvec3(-100, 0, 50)) *
+                       glm::mat4_cast(glm::angleAxis(kPi / 2, glm::dvec3(0, 0, 1)));
+    input.handle(h);
+    expectNear(s.objectPose().translation, {-100, 100, 50}, 1e-9);
+    EXPECT_NEAR(std::abs(s.objectPose().rotation.w), std::sqrt(0.5), 1e-12);
+    // Let go and move the hand: the sculpture stays.
+    h.grip = false;
+    h.worldFromMouse = glm::translate(glm::dmat4(1.0), glm::dvec3(0, 0, 0));
+    input.handle(h);
+    expectNear(s.objectPose().translation, {-100, 100, 50}, 1e-9);
+    EXPECT_FALSE(input.grabbing());
+
+    // Left buttons: cycle the tool, step the size; one press each.
+    XrHands b;
+    b.cycleTool = true;
+    input.handle(b);
+    EXPECT_EQ(s.tool(), ToolKind::Carve);
+    b = {};
+    b.step = true;
+    input.handle(b);
+    EXPECT_EQ(s.size(), 6);
+    b = {};
+    b.undo = true;  // nothing to undo: logged, not thrown
+    EXPECT_NO_THROW(input.handle(b));
+}
+
+TEST(XrInput, RecordedReportsAreLossless) {
+    XrHands h;
+    h.worldFromPen = glm::translate(glm::dmat4(1.0), glm::dvec3(0.1, -2.0 / 3.0, 1e-300)) *
+                     glm::mat4_cast(glm::angleAxis(0.7, glm::normalize(glm::dvec3(1, -2, 3))));
+    h.trigger = 0.123456f;
+    h.grip = true;
+    h.step = true;
+    const std::vector<uint8_t> bytes = xrHandsReport(h);
+    EXPECT_EQ(bytes.size(), 5u + 96u);
+    const std::optional<XrHands> back = parseXrHandsReport(bytes);
+    ASSERT_TRUE(back);
+    ASSERT_TRUE(back->worldFromPen);
+    EXPECT_EQ(*back->worldFromPen, *h.worldFromPen);  // bit for bit
+    EXPECT_FALSE(back->worldFromMouse);
+    EXPECT_EQ(back->trigger, h.trigger);
+    EXPECT_TRUE(back->grip && back->step);
+    EXPECT_FALSE(back->undo || back->cycleTool || back->overview);
+    // A truncated report, or one claiming a hand it does not carry, is refused.
+    EXPECT_FALSE(parseXrHandsReport(std::span(bytes).first(50)));
+    std::vector<uint8_t> lying = bytes;
+    lying[0] |= 2;
+    EXPECT_FALSE(parseXrHandsReport(lying));
+    EXPECT_TRUE(parseXrHandsReport(xrHandsReport(XrHands{})));
+}
+
+TEST(XrInput, LosingThePenEndsTheStroke) {
+    const core::SculptConfig cfg = config();
+    Studio studio(cfg);
+    Interaction ui(studio);
+    XrInput input(cfg.render.xr, ui, studio);
+    XrHands h;
+    h.trigger = 1;
+    h.worldFromPen = glm::translate(glm::dmat4(1.0), glm::dvec3(0, 0, 29));
+    input.handle(h);
+    h.worldFromPen = glm::translate(glm::dmat4(1.0), glm::dvec3(3, 0, 29));
+    input.handle(h);
+    EXPECT_TRUE(studio.session().inStroke());
+    h.worldFromPen.reset();
+    input.handle(h);
+    EXPECT_FALSE(studio.session().inStroke());
+    EXPECT_FALSE(input.engaged());
+    EXPECT_EQ(studio.stepCount(), 1u);
+}
+
+}  // namespace

@@ -248,7 +248,8 @@ int runXr(const WindowOptions& options, std::ostream& out, std::ostream& err) {
             vibrating = amplitude > 0;
 
             // The one place the mesh reaches the GPU.
-            viewer->syncChunks(session.view());
+            // The mesher's last published set: the frame never waits for a rebuild.
+            viewer->syncChunks(*session.published());
             if (timing.shouldRender) {
                 std::array<devices::XrEyeView, 2> eyes =
                     xr->locateEyes(timing.predictedDisplayTime);

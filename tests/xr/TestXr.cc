@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The OpenXR path end to end: the real vsculpt executable, the real Khronos loader and its
 // core validation layer, and the scripted test runtime (TestRuntime.cpp) found through
-// XR_RUNTIME_JSON; GL from Mesa under xvfb-run. Every run must leave the validation layer and
-// the debug messenger silent.
+// XR_RUNTIME_JSON; GL from Mesa under the xvfb-run the test binary runs in. Every run must leave
+// the validation layer and the debug messenger silent.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -62,7 +62,7 @@ class Xr : public ::testing::Test {
             << validationPath.string() << "'"
             << " VSCULPT_TEST_XR_SCRIPT='" << scriptPath.string() << "'"
             << " VSCULPT_TEST_XR_LOG='" << logPath.string() << "' " << extraEnv << " "
-            << (display ? "xvfb-run -a " : "env -u DISPLAY -u WAYLAND_DISPLAY ") << VSCULPT_BINARY
+            << (display ? "" : "env -u DISPLAY -u WAYLAND_DISPLAY ") << VSCULPT_BINARY
             << " --no-project --no-devices --hidden " << args << " 2>&1";
         XrRun r;
         FILE* p = ::popen(cmd.str().c_str(), "r");

@@ -8,11 +8,23 @@
 
 #include <glm/gtc/quaternion.hpp>
 
+#include <algorithm>
 #include <bit>
+#include <cmath>
 
 namespace vsculpt::app {
 
 namespace {
+
+// A thumbstick as a push: fires once past 0.8, re-armed under 0.5 (no repeats while held).
+XrInput::Push stickPush(float x, float y, bool& armed) {
+    const float r = std::hypot(x, y);
+    if (r < 0.5f) armed = true;
+    if (!armed || r < 0.8f) return XrInput::Push::None;
+    armed = false;
+    if (std::abs(x) > std::abs(y)) return x < 0 ? XrInput::Push::Left : XrInput::Push::Right;
+    return y > 0 ? XrInput::Push::Up : XrInput::Push::Down;
+}
 
 core::RigidTransform rigidOf(const glm::dmat4& m) {
     core::RigidTransform t;
@@ -41,7 +53,7 @@ std::vector<uint8_t> xrHandsReport(const XrHands& h) {
     std::vector<uint8_t> out;
     out.push_back(uint8_t((h.worldFromPen ? 1 : 0) | (h.worldFromMouse ? 2 : 0) | (h.grip ? 4 : 0) |
                           (h.undo ? 8 : 0) | (h.cycleTool ? 16 : 0) | (h.step ? 32 : 0) |
-                          (h.overview ? 64 : 0)));
+                          (h.overview ? 64 : 0) | 128));
     const auto trigger = std::bit_cast<uint32_t>(h.trigger);
     for (int i = 0; i < 4; ++i)
         out.push_back(uint8_t(trigger >> (8 * i)));
@@ -50,6 +62,11 @@ std::vector<uint8_t> xrHandsReport(const XrHands& h) {
             for (int c = 0; c < 4; ++c)
                 for (int r = 0; r < 3; ++r)
                     putU64(out, std::bit_cast<uint64_t>((*pose)[c][r]));
+    for (float v : {h.penStickX, h.penStickY, h.mouseStickY}) {
+        const auto bits = std::bit_cast<uint32_t>(v);
+        for (int i = 0; i < 4; ++i)
+            out.push_back(uint8_t(bits >> (8 * i)));
+    }
     return out;
 }
 
@@ -57,7 +74,8 @@ std::optional<XrHands> parseXrHandsReport(std::span<const uint8_t> b) {
     if (b.size() < 5) return std::nullopt;
     const uint8_t f = b[0];
     const size_t poses = ((f & 1) ? 1 : 0) + ((f & 2) ? 1 : 0);
-    if (b.size() != 5 + poses * kPoseBytes || (f & 0x80)) return std::nullopt;
+    const size_t sticks = (f & 0x80) ? 12 : 0;
+    if (b.size() != 5 + poses * kPoseBytes + sticks) return std::nullopt;
     XrHands h;
     h.grip = f & 4;
     h.undo = f & 8;
@@ -78,6 +96,17 @@ std::optional<XrHands> parseXrHandsReport(std::span<const uint8_t> b) {
     };
     if (f & 1) h.worldFromPen = pose();
     if (f & 2) h.worldFromMouse = pose();
+    if (sticks) {
+        auto f32 = [&] {
+            uint32_t v = 0;
+            for (int i = 0; i < 4; ++i)
+                v |= uint32_t(b[at++]) << (8 * i);
+            return std::bit_cast<float>(v);
+        };
+        h.penStickX = f32();
+        h.penStickY = f32();
+        h.mouseStickY = f32();
+    }
     return h;
 }
 
@@ -93,6 +122,9 @@ XrHands handsInWorld(const devices::XrControllers& c, const core::XrConfig& cfg)
     h.cycleTool = c.cycleTool;
     h.step = c.step;
     h.overview = c.overview;
+    h.penStickX = c.penStickX;
+    h.penStickY = c.penStickY;
+    h.mouseStickY = c.mouseStickY;
     return h;
 }
 
@@ -140,6 +172,27 @@ void XrInput::handle(const XrHands& h) {
                 session.objectPose().inverse().apply(mTool.value_or(core::Vec3(0.0))));
         });
     if (h.overview) guarded("overview", [&] { mInteraction.overview(); });
+    // Direct jumps (docs/xr.md): sizes by the pen hand's stick, zoom steps by the other's.
+    const Push penPush = stickPush(h.penStickX, h.penStickY, mPenStickArmed);
+    if (penPush == Push::Down) {
+        guarded("redo", [&] { mStudio.redo(); });
+    } else if (penPush != Push::None) {
+        std::vector<int> sizes =
+            session.sculpture().config().zoom.allowedSizes[size_t(session.zoom() - 1)];
+        std::sort(sizes.begin(), sizes.end());
+        const int level = penPush == Push::Left    ? sizes.front()
+                          : penPush == Push::Right ? sizes.back()
+                                                   : sizes[sizes.size() / 2];
+        guarded("size", [&] { mInteraction.jumpToSize(level); });
+    }
+    const Push mousePush = stickPush(0, h.mouseStickY, mMouseStickArmed);
+    if (mousePush == Push::Up || mousePush == Push::Down) {
+        const int zoom = std::clamp(session.zoom() + (mousePush == Push::Up ? 1 : -1), 1,
+                                    core::kZoomLevels);
+        const core::Vec3 at =
+            session.objectPose().inverse().apply(mTool.value_or(core::Vec3(0.0)));
+        if (zoom != session.zoom()) guarded("zoom", [&] { mInteraction.jumpToZoom(zoom, at); });
+    }
 
     // The left hand holds the sculpture while the grip is closed (position control, like the
     // tracker's object station).

@@ -27,6 +27,12 @@ const char* xrActionName(XrActionId id) {
             return "step";
         case XrActionId::Overview:
             return "overview";
+        case XrActionId::PenStickX:
+            return "pen_stick_x";
+        case XrActionId::PenStickY:
+            return "pen_stick_y";
+        case XrActionId::MouseStickY:
+            return "mouse_stick_y";
     }
     return "?";
 }
@@ -37,6 +43,9 @@ XrActionKind xrActionKind(XrActionId id) {
         case XrActionId::MousePose:
             return XrActionKind::Pose;
         case XrActionId::PenTrigger:
+        case XrActionId::PenStickX:
+        case XrActionId::PenStickY:
+        case XrActionId::MouseStickY:
             return XrActionKind::Float;
         case XrActionId::PenHaptic:
             return XrActionKind::Vibration;
@@ -66,14 +75,20 @@ const std::vector<XrProfileBindings>& xrSuggestedBindings() {
                      {A::MouseGrip, l + "input/squeeze/value"},
                      {A::CycleTool, l + "input/a/click"},
                      {A::Step, l + "input/b/click"},
-                     {A::Overview, l + "input/thumbstick/click"}})},
+                     {A::Overview, l + "input/thumbstick/click"},
+                     {A::PenStickX, r + "input/thumbstick/x"},
+                     {A::PenStickY, r + "input/thumbstick/y"},
+                     {A::MouseStickY, l + "input/thumbstick/y"}})},
             {"/interaction_profiles/oculus/touch_controller",
              common({{A::PenTrigger, r + "input/trigger/value"},
                      {A::Undo, r + "input/b/click"},
                      {A::MouseGrip, l + "input/squeeze/value"},
                      {A::CycleTool, l + "input/x/click"},
                      {A::Step, l + "input/y/click"},
-                     {A::Overview, l + "input/thumbstick/click"}})},
+                     {A::Overview, l + "input/thumbstick/click"},
+                     {A::PenStickX, r + "input/thumbstick/x"},
+                     {A::PenStickY, r + "input/thumbstick/y"},
+                     {A::MouseStickY, l + "input/thumbstick/y"}})},
             {"/interaction_profiles/htc/vive_controller",
              common({{A::PenTrigger, r + "input/trigger/value"},
                      {A::Undo, r + "input/menu/click"},

@@ -532,6 +532,15 @@ XrControllers XrHeadset::syncInput(int64_t time) {
         if (!b.isActive) return false;
         return b.currentState == XR_TRUE && (!edge || b.changedSinceLastSync == XR_TRUE);
     };
+    auto analog = [&](XrActionId id) {
+        gi.action = m.action(id);
+        XrActionStateFloat a{XR_TYPE_ACTION_STATE_FLOAT};
+        m.check(xrGetActionStateFloat(m.session.get(), &gi, &a), "xrGetActionStateFloat");
+        return a.isActive ? a.currentState : 0.0f;
+    };
+    c.penStickX = analog(XrActionId::PenStickX);
+    c.penStickY = analog(XrActionId::PenStickY);
+    c.mouseStickY = analog(XrActionId::MouseStickY);
     c.grip = boolean(XrActionId::MouseGrip, false);
     c.undo = boolean(XrActionId::Undo, true);
     c.cycleTool = boolean(XrActionId::CycleTool, true);

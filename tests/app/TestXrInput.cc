@@ -11,6 +11,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -55,7 +56,8 @@ TEST(XrBindings, EveryProfileDrivesBothHands) {
             EXPECT_TRUE(right || left) << b.path;
             const bool penAction =
                 b.action == XrActionId::PenPose || b.action == XrActionId::PenTrigger ||
-                b.action == XrActionId::PenHaptic || b.action == XrActionId::Undo;
+                b.action == XrActionId::PenHaptic || b.action == XrActionId::Undo ||
+                b.action == XrActionId::PenStickX || b.action == XrActionId::PenStickY;
             EXPECT_EQ(right, penAction) << p.profile << " " << b.path;
         }
         for (XrActionId must :
@@ -215,8 +217,10 @@ TEST(XrInput, RecordedReportsAreLossless) {
     h.trigger = 0.123456f;
     h.grip = true;
     h.step = true;
+    h.penStickX = -0.8125f;
+    h.mouseStickY = 1.0f / 3.0f;
     const std::vector<uint8_t> bytes = xrHandsReport(h);
-    EXPECT_EQ(bytes.size(), 5u + 96u);
+    EXPECT_EQ(bytes.size(), 5u + 96u + 12u);
     const std::optional<XrHands> back = parseXrHandsReport(bytes);
     ASSERT_TRUE(back);
     ASSERT_TRUE(back->worldFromPen);
@@ -225,12 +229,76 @@ TEST(XrInput, RecordedReportsAreLossless) {
     EXPECT_EQ(back->trigger, h.trigger);
     EXPECT_TRUE(back->grip && back->step);
     EXPECT_FALSE(back->undo || back->cycleTool || back->overview);
+    EXPECT_EQ(back->penStickX, h.penStickX);
+    EXPECT_EQ(back->penStickY, 0.0f);
+    EXPECT_EQ(back->mouseStickY, h.mouseStickY);
+    // A report recorded before the thumbsticks (no bit 7, no stick floats) still parses.
+    std::vector<uint8_t> old(bytes.begin(), bytes.end() - 12);
+    old[0] &= 0x7F;
+    const std::optional<XrHands> oldBack = parseXrHandsReport(old);
+    ASSERT_TRUE(oldBack);
+    EXPECT_EQ(*oldBack->worldFromPen, *h.worldFromPen);
+    EXPECT_EQ(oldBack->penStickX, 0.0f);
     // A truncated report, or one claiming a hand it does not carry, is refused.
     EXPECT_FALSE(parseXrHandsReport(std::span(bytes).first(50)));
     std::vector<uint8_t> lying = bytes;
     lying[0] |= 2;
     EXPECT_FALSE(parseXrHandsReport(lying));
     EXPECT_TRUE(parseXrHandsReport(xrHandsReport(XrHands{})));
+}
+
+TEST(XrInput, ThumbsticksJumpToSizesAndZoomOncePerPush) {
+    const core::SculptConfig cfg = config();
+    Studio studio(cfg);
+    Interaction ui(studio);
+    XrInput input(cfg.render.xr, ui, studio);
+    const Session& s = studio.session();
+    std::vector<int> offered = cfg.zoom.allowedSizes[0];
+    std::sort(offered.begin(), offered.end());
+    auto push = [&](float px, float py, float my) {
+        XrHands h;
+        h.penStickX = px;
+        h.penStickY = py;
+        h.mouseStickY = my;
+        input.handle(h);
+    };
+    push(-1, 0, 0);  // left: the smallest size offered at zoom 1
+    EXPECT_EQ(s.size(), offered.front());
+    push(0, 0, 0);
+    push(0.95f, 0.1f, 0);  // right: the largest
+    EXPECT_EQ(s.size(), offered.back());
+    push(0, 0, 0);
+    push(0, 0.9f, 0);  // up: the middle one
+    EXPECT_EQ(s.size(), offered[offered.size() / 2]);
+    // Held: no repeat; half way back is not yet a release.
+    push(0, 0, 0);
+    push(-1, 0, 0);
+    push(-0.6f, 0, 0);
+    push(-1, 0, 0);
+    EXPECT_EQ(s.size(), offered.front());
+    // The other hand's stick zooms in and out, one level per push.
+    push(0, 0, 0);
+    push(0, 0, 1);
+    EXPECT_EQ(s.zoom(), 2);
+    push(0, 0, 1);  // still held
+    EXPECT_EQ(s.zoom(), 2);
+    push(0, 0, 0);
+    push(0, 0, 1);
+    EXPECT_EQ(s.zoom(), 3);
+    push(0, 0, 0);
+    push(0, 0, -1);
+    EXPECT_EQ(s.zoom(), 2);
+    push(0, 0, 0);
+    push(0, 0, -1);
+    push(0, 0, 0);
+    push(0, 0, -1);  // already at zoom 1: nothing
+    EXPECT_EQ(s.zoom(), 1);
+    // Down on the pen hand's stick redoes.
+    studio.stroke({core::Vec3(0, 0, 40), core::Vec3(5, 0, 40)}, false);
+    ASSERT_TRUE(studio.undo());
+    EXPECT_EQ(studio.redoCount(), 1u);
+    push(0, -1, 0);
+    EXPECT_EQ(studio.redoCount(), 0u);
 }
 
 TEST(XrInput, LosingThePenEndsTheStroke) {

@@ -784,10 +784,14 @@ XrResult XRAPI_CALL getCurrentProfile(XrSession, XrPath, XrInteractionProfileSta
     return XR_SUCCESS;
 }
 
+// Several inputs bound to one float action: the one of largest magnitude wins (as the OpenXR
+// spec combines them), so a thumbstick pushed to -1 reads -1.
 double actionValue(XrAction action) {
     double v = 0;
-    for (const std::string& p : boundInputs(action))
-        v = std::max(v, inputAt(p, rt->frame));
+    for (const std::string& p : boundInputs(action)) {
+        const double x = inputAt(p, rt->frame);
+        if (std::abs(x) > std::abs(v)) v = x;
+    }
     return v;
 }
 

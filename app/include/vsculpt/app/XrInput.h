@@ -7,7 +7,10 @@
 ///     pushes the tool further along the pen;
 ///   - left hand = the 3D mouse: while the grip is held the sculpture follows the hand (grab,
 ///     move and turn); its buttons cycle the tool, step the size (zoom with the select tool)
-///     and go back to the overview; the pen hand's second button undoes.
+///     and go back to the overview; the pen hand's second button undoes;
+///   - direct jumps: the pen hand's thumbstick pushed left / up / right jumps to the smallest /
+///     middle / largest size the zoom offers, down redoes; the 3D-mouse hand's thumbstick up
+///     zooms in one level at the tool, down zooms out.
 /// Pure of OpenXR: it takes poses already in the studio's world (XrHands), so tests drive it
 /// without a runtime.
 #pragma once
@@ -34,6 +37,9 @@ struct XrHands {
     float trigger = 0;
     bool grip = false;
     bool undo = false, cycleTool = false, step = false, overview = false;
+    /// Thumbsticks, -1..1: the pen hand's (direct size jumps, redo) and the 3D-mouse hand's y
+    /// (zoom in and out at the tool).
+    float penStickX = 0, penStickY = 0, mouseStickY = 0;
 };
 
 /// The controllers of one sync mapped from OpenXR's local space into the world (XrBindings.h,
@@ -42,9 +48,10 @@ XrHands handsInWorld(const devices::XrControllers& c, const core::XrConfig& cfg)
 
 /// One frame of hands as a device report, for recordings (driver "openxr", docs/xr.md):
 /// a flags byte (bit 0 pen tracked, 1 3D-mouse hand tracked, 2 grip, 3 undo, 4 cycle tool,
-/// 5 step, 6 overview), the trigger as a float, then for each tracked hand its pose's first
-/// three rows (12 doubles, column by column); little-endian. Lossless: a replay maps exactly
-/// what the live run did.
+/// 5 step, 6 overview, 7 thumbsticks follow), the trigger as a float, then for each tracked
+/// hand its pose's first three rows (12 doubles, column by column), then (bit 7) the three
+/// thumbstick floats; little-endian. Lossless: a replay maps exactly what the live run did.
+/// Reports without bit 7 (recorded before the thumbsticks) still parse.
 std::vector<uint8_t> xrHandsReport(const XrHands& hands);
 /// nullopt for a report of the wrong length.
 std::optional<XrHands> parseXrHandsReport(std::span<const uint8_t> bytes);
@@ -69,6 +76,9 @@ class XrInput {
     std::optional<core::Vec3> toolWorld() const { return mTool; }
     bool engaged() const { return mEngaged; }
     bool grabbing() const { return mHandFromObject.has_value(); }
+    /// Which way a thumbstick was pushed this frame, as a jump: a direction fires once when
+    /// the stick passes 0.8 and re-arms when it comes back under 0.5.
+    enum class Push { None, Left, Up, Right, Down };
 
   private:
     core::XrConfig mCfg;
@@ -79,6 +89,7 @@ class XrInput {
     // The sculpture's pose in the grabbing hand's frame, fixed when the grip closes (so
     // grabbing does not make the sculpture jump).
     std::optional<core::RigidTransform> mHandFromObject;
+    bool mPenStickArmed = true, mMouseStickArmed = true;
 };
 
 }  // namespace vsculpt::app

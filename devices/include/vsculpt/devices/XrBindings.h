@@ -25,8 +25,13 @@ enum class XrActionId {
     CycleTool,   ///< boolean: the thesis's right 3D-mouse button (add -> carve -> ...)
     Step,        ///< boolean: the thesis's left 3D-mouse button (size step / zoom step)
     Overview,    ///< boolean: back to zoom 1
+    /// float: the pen hand's thumbstick x and y, and the 3D-mouse hand's thumbstick y (direct
+    /// jumps: size by direction, zoom in and out; docs/xr.md)
+    PenStickX,
+    PenStickY,
+    MouseStickY,
 };
-inline constexpr int kXrActionCount = 9;
+inline constexpr int kXrActionCount = 12;
 
 /// The action's OpenXR name (lower case, as xrCreateAction wants) and its kind.
 const char* xrActionName(XrActionId id);

@@ -64,6 +64,7 @@ struct XrControllers {
     float trigger = 0;
     bool grip = false;
     bool undo = false, cycleTool = false, step = false, overview = false;
+    float penStickX = 0, penStickY = 0, mouseStickY = 0;  ///< -1..1 (0: not bound)
 };
 
 /// One eye of a frame: where it is (local, metres), its field of view (radians) and the GL

@@ -3,6 +3,10 @@
 
 #include "vsculpt/core/Polygonizer.h"
 
+#include <tbb/parallel_for.h>
+
+#include <array>
+
 namespace vsculpt::core {
 
 size_t MeshChunks::triangleCount() const {
@@ -36,6 +40,7 @@ std::shared_ptr<const MeshChunks> publishChunks(const Polygonizer& poly,
     out->meshes.assign(count, nullptr);
     out->chunkBounds.assign(count, Aabb{});
     const bool reuse = previous && previous->region == poly.region();
+    std::vector<std::array<int, 3>> fresh;  // chunks to extract
     for (int x = 0; x < c; ++x)
         for (int y = 0; y < c; ++y)
             for (int z = 0; z < c; ++z) {
@@ -47,13 +52,21 @@ std::shared_ptr<const MeshChunks> publishChunks(const Polygonizer& poly,
                     out->meshes[i] = previous->meshes[i];
                     out->chunkBounds[i] = previous->chunkBounds[i];
                 } else {
-                    Mesh m = poly.chunkMesh(x, y, z);
-                    if (m.triangleCount() == 0) continue;
-                    out->chunkBounds[i] = meshBounds(m);
-                    out->meshes[i] = std::make_shared<const Mesh>(std::move(m));
+                    fresh.push_back({x, y, z});
                 }
-                out->bounds.expand(out->chunkBounds[i]);
             }
+    // Each chunk's mesh is built from its own blocks (read-only): in parallel, in the caller's
+    // oneTBB arena (the mesher's).
+    tbb::parallel_for(size_t(0), fresh.size(), [&](size_t k) {
+        const auto [x, y, z] = fresh[k];
+        Mesh m = poly.chunkMesh(x, y, z);
+        if (m.triangleCount() == 0) return;
+        const size_t i = out->index(x, y, z);
+        out->chunkBounds[i] = meshBounds(m);
+        out->meshes[i] = std::make_shared<const Mesh>(std::move(m));
+    });
+    for (size_t i = 0; i < count; ++i)
+        if (out->meshes[i]) out->bounds.expand(out->chunkBounds[i]);
     return out;
 }
 

@@ -15,6 +15,7 @@
 #include <GLFW/glfw3.h>  // key and button codes only
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -110,6 +111,8 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
     double depthOffset = 0;  // mm along the pointer ray, from the scroll wheel
     size_t commandIndex = 0, frame = 0;
     double frameMs = 0;
+    // For the closing summary: every frame's wall time and how far the mesh trailed each edit.
+    std::vector<double> frameTimes, meshLag;
     bool running = true;
     Vec3 toolWorld(0.0);
     // The preferences panel shows and edits the mode in use (--stereo included).
@@ -386,6 +389,9 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         viewer->swap();
         frameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                       .count();
+        frameTimes.push_back(frameMs);
+        for (double ms : rig->studio().takePublishDelaysMs())
+            meshLag.push_back(ms);
         char title[256];
         std::snprintf(
             title, sizeof title,
@@ -421,8 +427,19 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
     }
     if (rig->devices() && !rig->devices()->counters().empty())
         logLines(spdlog::level::info, rig->devices()->summary());
-    spdlog::info("{} frame(s), {} skeletons, last frame {}", frame,
-                 rig->session().sculpture().counts().total(), formatDuration(frameMs / 1000));
+    auto quantileMs = [](std::vector<double> v, double q) {
+        if (v.empty()) return 0.0;
+        std::sort(v.begin(), v.end());
+        return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
+    };
+    spdlog::info("{} frame(s), {} skeletons, frame p50 {}, p99 {}", frame,
+                 rig->session().sculpture().counts().total(),
+                 formatDuration(quantileMs(frameTimes, 0.5) / 1000),
+                 formatDuration(quantileMs(frameTimes, 0.99) / 1000));
+    if (!meshLag.empty())
+        spdlog::info("the mesh followed {} edit(s) by p50 {}, p99 {} (mesher thread)",
+                     meshLag.size(), formatDuration(quantileMs(meshLag, 0.5) / 1000),
+                     formatDuration(quantileMs(meshLag, 0.99) / 1000));
     return 0;
 }
 

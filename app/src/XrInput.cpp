@@ -187,10 +187,9 @@ void XrInput::handle(const XrHands& h) {
     }
     const Push mousePush = stickPush(0, h.mouseStickY, mMouseStickArmed);
     if (mousePush == Push::Up || mousePush == Push::Down) {
-        const int zoom = std::clamp(session.zoom() + (mousePush == Push::Up ? 1 : -1), 1,
-                                    core::kZoomLevels);
-        const core::Vec3 at =
-            session.objectPose().inverse().apply(mTool.value_or(core::Vec3(0.0)));
+        const int zoom =
+            std::clamp(session.zoom() + (mousePush == Push::Up ? 1 : -1), 1, core::kZoomLevels);
+        const core::Vec3 at = session.objectPose().inverse().apply(mTool.value_or(core::Vec3(0.0)));
         if (zoom != session.zoom()) guarded("zoom", [&] { mInteraction.jumpToZoom(zoom, at); });
     }
 

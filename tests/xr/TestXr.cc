@@ -332,11 +332,12 @@ TEST_F(Xr, LeftButtonsCycleTheToolOnTouchControllers) {
 TEST_F(Xr, ThumbsticksJumpToASizeAndZoomIn) {
     // Index: the right stick pushed left jumps to the smallest size zoom 1 offers (5), the
     // left stick up zooms in one level, where the smallest size at zoom 2 (4) is offered.
-    const XrRun r = run("at 3 /user/hand/right/input/thumbstick/x -1\n"
-                        "at 5 /user/hand/right/input/thumbstick/x 0\n"
-                        "at 6 /user/hand/left/input/thumbstick/y 1\n"
-                        "at 8 /user/hand/left/input/thumbstick/y 0\n",
-                        "--xr --frames 12");
+    const XrRun r =
+        run("at 3 /user/hand/right/input/thumbstick/x -1\n"
+            "at 5 /user/hand/right/input/thumbstick/x 0\n"
+            "at 6 /user/hand/left/input/thumbstick/y 1\n"
+            "at 8 /user/hand/left/input/thumbstick/y 0\n",
+            "--xr --frames 12");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     expectValidationClean(r);
     EXPECT_EQ(match(r.output, "size (\\d+)"), "5") << r.output;

@@ -65,6 +65,8 @@ class Studio {
 
     /// Session::setAsyncMeshing (the windows turn it on).
     void setAsyncMeshing(bool on) { mSession->setAsyncMeshing(on); }
+    /// Session::takePublishDelaysMs (how far the mesh trailed the edits).
+    std::vector<double> takePublishDelaysMs() { return mSession->takePublishDelaysMs(); }
 
     // Tool state (Session.h). Changing tool, size or zoom ends a stroke in progress.
     void setTool(ToolKind tool);

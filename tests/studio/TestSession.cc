@@ -149,6 +149,25 @@ TEST(Session, ProjectSaveAndReopenGivesTheSameSculptureAndHistory) {
     EXPECT_EQ(viewHash(*s), viewHash(fresh));
 }
 
+TEST(Session, AProjectKeepsThePlacementModeItWasMadeWith) {
+    // Made in `free` mode (the default before `swept`): reopened with today's default config,
+    // its journal replays with the rule that made it, to the same mesh.
+    TempDir dir;
+    core::SculptConfig made = smallConfig();
+    made.placement = core::PlacementMode::Free;
+    ASSERT_NE(core::SculptConfig{}.placement, made.placement);
+    uint64_t end = 0;
+    {
+        auto s = Session::openProject(dir.path, made);
+        sculptSome(*s, 4, 7);
+        end = viewHash(*s);
+    }
+    auto s = Session::openProject(dir.path, core::SculptConfig{});
+    EXPECT_EQ(s->sculpture().config().placement, core::PlacementMode::Free);
+    EXPECT_EQ(s->recoveredEdits(), 4u);
+    EXPECT_EQ(viewHash(*s), end);
+}
+
 TEST(Session, DamagedJournalTailIsDroppedAndReported) {
     TempDir dir;
     uint64_t afterTwo = 0;

@@ -134,7 +134,10 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
                      cfg.render.fullscreenMonitor);
     // What the camera frames: the mesh on show, refreshed now and then (and on zoom).
     Aabb frameBox = sessionNow().published()->bounds;
-    int framedZoom = sessionNow().zoom();
+    // The region of the mesh framed last: the camera reframes when the mesh on show moves to
+    // another region (after a zoom change, once the mesher has published the new region's
+    // preview), not when the zoom is asked for (the old mesh is still on show then).
+    core::GridRegion framedRegion = sessionNow().published()->region;
 
     // The region to zoom into: the surface point under the pointer, picked with Embree on the
     // mesh on show (built only when a zoom is asked for); the tool centre when nothing is hit.
@@ -372,10 +375,10 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         // The mesher's last published set: the frame never waits for a rebuild.
         const std::shared_ptr<const core::MeshChunks> shown = session.published();
         viewer->syncChunks(*shown);
-        if (session.zoom() != framedZoom || frame % 30 == 29) {
+        if (!(shown->region == framedRegion) || frame % 30 == 29) {
             const Aabb b = shown->bounds;
             if (!b.empty()) frameBox = b;
-            framedZoom = session.zoom();
+            framedRegion = shown->region;
         }
         // A headset with a tracked head station moves the eyes; otherwise the camera frames
         // the sculpture.

@@ -7,7 +7,7 @@
 #
 # Environment:
 #   VSCULPT_SANITIZE_BUILD_DIR  build folder (default build-asan)
-#   VSCULPT_SANITIZE_LABELS     ctest label regex (default core|sketch|studio|devices|app|render;
+#   VSCULPT_SANITIZE_LABELS     ctest label regex (default core|sketch|studio|devices|app|render|xr;
 #                               a regex, so app also selects app-gl, render also render-gl)
 #   VSCULPT_SANITIZE_CLI        1 (default): also run the unlabeled cli.* tests; 0: don't
 #   VSCULPT_SANITIZE_TARGETS    build targets (default: vsculpt + the test executables below)
@@ -18,7 +18,7 @@ cd "$(dirname "$0")/.."
 ROOT="$PWD"
 BUILD_DIR="${VSCULPT_SANITIZE_BUILD_DIR:-build-asan}"
 JOBS="${VSCULPT_JOBS:-$(nproc)}"
-LABELS="${VSCULPT_SANITIZE_LABELS:-core|sketch|studio|devices|app|render}"
+LABELS="${VSCULPT_SANITIZE_LABELS:-core|sketch|studio|devices|app|render|xr}"
 RUN_CLI="${VSCULPT_SANITIZE_CLI:-1}"
 # vsculpt itself: app/studio tests spawn it, the cli.* tests run it. Everything with a test
 # label the regex above selects; not vsculpt_bench (VSCULPT_SANITIZE turns it off).
@@ -32,6 +32,7 @@ default_targets=(
   vsculpt_devices_imu_tests
   vsculpt_sketch_mesh_tests vsculpt_sketch_cleanup_tests vsculpt_sketch_subdivision_tests
   vsculpt_sketch_teddy_tests vsculpt_sketch_la_tests vsculpt_sketch_solid_tests
+  vsculpt_xr_tests vsculpt_xr_test_runtime
 )
 read -r -a targets <<< "${VSCULPT_SANITIZE_TARGETS:-${default_targets[*]}}"
 

@@ -4,6 +4,7 @@
 #include "SkeletonStoreImpl.h"
 #include "vsculpt/core/Sculpture.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <stdexcept>
@@ -255,6 +256,56 @@ double LocalField::value(const Vec3& p) const {
         }
     }
     return sum - mIso;
+}
+
+void LocalField::gridValues(std::span<const double> xs, std::span<const double> ys,
+                            std::span<const double> zs, double* out) const {
+    const size_t nx = xs.size(), ny = ys.size(), nz = zs.size();
+    std::fill(out, out + nx * ny * nz, 0.0);
+    // The vertices along one axis a skeleton may reach: a conservative index range (one
+    // vertex of slack each side); the exact test is r2 < R2 below, as in value().
+    auto range = [](std::span<const double> v, double c, double r, size_t& lo, size_t& hi) {
+        const double h = v.size() > 1 ? v[1] - v[0] : 1.0;
+        const double a = std::floor((c - r - v[0]) / h) - 1, b = std::ceil((c + r - v[0]) / h) + 1;
+        lo = size_t(std::clamp(a, 0.0, double(v.size())));
+        hi = size_t(std::clamp(b + 1, 0.0, double(v.size())));  // exclusive
+    };
+    double dx2[16], dy2[16], dz2[16];
+    if (nx > 16 || ny > 16 || nz > 16) throw std::invalid_argument("gridValues: at most 16^3");
+    for (size_t s = 0; s < mX.size(); ++s) {
+        const double r = std::sqrt(mR2[s]);
+        size_t i0, i1, j0, j1, k0, k1;
+        range(xs, mX[s], r, i0, i1);
+        range(ys, mY[s], r, j0, j1);
+        range(zs, mZ[s], r, k0, k1);
+        if (i0 >= i1 || j0 >= j1 || k0 >= k1) continue;
+        // The same products as value(): (dx*dx + dy*dy) + dz*dz.
+        for (size_t i = i0; i < i1; ++i) {
+            const double d = xs[i] - mX[s];
+            dx2[i] = d * d;
+        }
+        for (size_t j = j0; j < j1; ++j) {
+            const double d = ys[j] - mY[s];
+            dy2[j] = d * d;
+        }
+        for (size_t k = k0; k < k1; ++k) {
+            const double d = zs[k] - mZ[s];
+            dz2[k] = d * d;
+        }
+        for (size_t i = i0; i < i1; ++i)
+            for (size_t j = j0; j < j1; ++j) {
+                const double xy = dx2[i] + dy2[j];
+                if (xy >= mR2[s]) continue;
+                double* row = out + (i * ny + j) * nz;
+                for (size_t k = k0; k < k1; ++k) {
+                    const double r2 = xy + dz2[k];
+                    if (r2 >= mR2[s]) continue;
+                    row[k] += mW[s] * mFalloff->value(std::sqrt(r2) * mInvR[s]);
+                }
+            }
+    }
+    for (size_t q = 0; q < nx * ny * nz; ++q)
+        out[q] -= mIso;
 }
 
 FieldSample LocalField::sample(const Vec3& p) const {

@@ -78,14 +78,22 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
     const int64_t gy0 = mRegion.originCell[1] + int64_t(by) * kBlockCells;
     const int64_t gz0 = mRegion.originCell[2] + int64_t(bz) * kBlockCells;
     double values[V][V][V];
+    // The block's grid values with each skeleton splatted onto the vertices it reaches: the
+    // same bits as field.value at each vertex (LocalField::gridValues), without visiting every
+    // skeleton at every vertex (piled-up clay: many small skeletons per block).
+    double xs[V], ys[V], zs[V];
+    for (int i = 0; i < V; ++i) {
+        const Vec3 p = mRegion.vertexPos(gx0 + i, gy0 + i, gz0 + i);
+        xs[i] = p.x;
+        ys[i] = p.y;
+        zs[i] = p.z;
+    }
+    field.gridValues(xs, ys, zs, &values[0][0][0]);
     bool anyIn = false, anyOut = false;
     for (int i = 0; i < V; ++i)
         for (int j = 0; j < V; ++j)
-            for (int k = 0; k < V; ++k) {
-                const double f = field.value(mRegion.vertexPos(gx0 + i, gy0 + j, gz0 + k));
-                values[i][j][k] = f;
-                (f > 0 ? anyIn : anyOut) = true;
-            }
+            for (int k = 0; k < V; ++k)
+                (values[i][j][k] > 0 ? anyIn : anyOut) = true;
     evals += V * V * V;
     if (!anyIn || !anyOut) return true;
 

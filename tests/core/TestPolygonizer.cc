@@ -156,6 +156,42 @@ TEST(Polygonizer, LocalFieldEqualsTheProbeBitForBit) {
     }
 }
 
+TEST(Polygonizer, GridValuesSplattedPerSkeletonAreTheFieldBitForBit) {
+    // LocalField::gridValues (what blocks are built from) against value() at every vertex,
+    // on clay of every level, on blocks of three spacings (zoom 1, 3 and 5 cells).
+    SculptConfig cfg = emptyConfig(PlacementMode::Swept);
+    cfg.sphereRadiusMm = 15;
+    Sculpture s(cfg);
+    std::mt19937 rng(21);
+    std::uniform_real_distribution<double> U(-20, 20);
+    for (int i = 0; i < 24; ++i)
+        applyStroke(s, i % 4 == 3 ? ToolOp::Carve : ToolOp::Add, 1 + i % 7,
+                    linePath(Vec3(U(rng), U(rng), U(rng)), Vec3(U(rng), U(rng), U(rng)), 1.0));
+    size_t nonzero = 0;
+    for (double h : {2.8, 0.7, 0.175})
+        for (int b = 0; b < 40; ++b) {
+            const int64_t g[3] = {int64_t(std::floor(U(rng) / h)), int64_t(std::floor(U(rng) / h)),
+                                  int64_t(std::floor(U(rng) / h))};
+            double xs[5], ys[5], zs[5];
+            for (int i = 0; i < 5; ++i) {
+                xs[i] = double(g[0] + i) * h;
+                ys[i] = double(g[1] + i) * h;
+                zs[i] = double(g[2] + i) * h;
+            }
+            const LocalField local(s, Aabb{Vec3(xs[0], ys[0], zs[0]), Vec3(xs[4], ys[4], zs[4])});
+            double grid[125];
+            local.gridValues(xs, ys, zs, grid);
+            for (int i = 0; i < 5; ++i)
+                for (int j = 0; j < 5; ++j)
+                    for (int k = 0; k < 5; ++k) {
+                        const double v = local.value(Vec3(xs[i], ys[j], zs[k]));
+                        ASSERT_EQ(grid[(i * 5 + j) * 5 + k], v) << h << " " << i << j << k;
+                        nonzero += v != -cfg.iso;
+                    }
+        }
+    EXPECT_GT(nonzero, 2000u);  // the blocks do meet clay
+}
+
 struct Scenario {
     PlacementMode mode;
     int zoom;

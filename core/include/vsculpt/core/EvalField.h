@@ -9,6 +9,8 @@
 /// depends on the local skeleton density, not on the size of the sculpture.
 #pragma once
 
+#include <span>
+
 #include "vsculpt/core/Geometry.h"
 
 #include <memory>
@@ -85,6 +87,12 @@ class LocalField {
     /// when the range does not include 0, no surface passes through the box.
     FieldBounds bounds() const;
     size_t skeletonCount() const { return mX.size(); }
+    /// f at every vertex of a regular grid, out[(i * ys.size() + j) * zs.size() + k] =
+    /// value({xs[i], ys[j], zs[k]}), bit for bit: each skeleton is splatted onto the vertices
+    /// within its support only, and every vertex still adds its skeletons in the same order
+    /// with the same operations. @pre xs, ys, zs ascending and evenly spaced (a block's grid).
+    void gridValues(std::span<const double> xs, std::span<const double> ys,
+                    std::span<const double> zs, double* out) const;
 
   private:
     const HermiteFalloff* mFalloff;

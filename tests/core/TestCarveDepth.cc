@@ -382,26 +382,28 @@ TEST(CarveDepth, PrintCosts) {
 
 // ---------------------------------------------------------------- assertions
 //
-// The bounds are what the swept-mode rule achieves at the default lattice (sigma = 1/2); the
-// issue's goal of 10 % everywhere is met for deep carves and most bumps, not yet for shallow
-// grooves, whose width is about one lattice spacing (docs/placement.md has the tables).
+// The bounds are what the swept-mode rule achieves at the default lattice (sigma = 1/2), with
+// the closed-loop fit: the 10 % on the sphere for every size, penetration and
+// direction, and on clay of strokes for sizes 1-5 from 60 % (carve) and for every add;
+// shallow carves on clay and the two largest tools there are not held to it
+// (docs/placement.md has the tables).
 
 TEST(CarveDepth, GroovesAndBumpsOnTheSphereFollowTheTool) {
     for (const Direction& d : directions()) {
         for (int k = 1; k <= 7; ++k) {
             for (double pen : {0.2, 0.6, 1.0, 1.4}) {
                 const Stats carve = sphereStroke(ToolOp::Carve, k, pen, d);
-                const double lo = pen >= 1.0 ? 0.78 : pen >= 0.6 ? 0.6 : 0.3;
-                EXPECT_GE(carve.min, lo) << "carve size " << k << " pen " << pen << " " << d.name;
+                EXPECT_GE(carve.min, 0.9) << "carve size " << k << " pen " << pen << " " << d.name;
                 EXPECT_LE(carve.max, 1.1) << "carve size " << k << " pen " << pen << " " << d.name;
-                // A groove, not a row of pits: the depth varies little along the stroke.
-                if (pen >= 0.6) {
-                    EXPECT_LE(carve.max - carve.min, 0.2)
-                        << "carve size " << k << " pen " << pen << " " << d.name;
-                }
+                // A groove, not a row of pits: the depth varies little along the stroke
+                // (measured: 0.12 at 20 %, 0.06 from 60 % on).
+                EXPECT_LE(carve.max - carve.min, pen >= 0.6 ? 0.1 : 0.15)
+                    << "carve size " << k << " pen " << pen << " " << d.name;
                 const Stats add = sphereStroke(ToolOp::Add, k, pen, d);
-                EXPECT_GE(add.min, 0.75) << "add size " << k << " pen " << pen << " " << d.name;
+                EXPECT_GE(add.min, 0.9) << "add size " << k << " pen " << pen << " " << d.name;
                 EXPECT_LE(add.max, 1.1) << "add size " << k << " pen " << pen << " " << d.name;
+                EXPECT_LE(add.max - add.min, 0.1)
+                    << "add size " << k << " pen " << pen << " " << d.name;
             }
         }
     }
@@ -411,14 +413,16 @@ TEST(CarveDepth, GroovesAndBumpsOnClayOfStrokesFollowTheTool) {
     const auto clay = makeClay();
     for (double angle : {90.0, 30.0}) {
         for (int k = 1; k <= 5; ++k) {
-            for (double pen : {1.0, 1.4}) {
+            for (double pen : {0.6, 1.0, 1.4}) {
+                // Measured 0.93..1.12 at 60 %, 0.95..1.04 from 100 % on.
                 const Stats carve = clayStroke(clay.get(), ToolOp::Carve, k, pen, angle);
-                EXPECT_GE(carve.min, 0.7) << "carve size " << k << " pen " << pen << " " << angle;
-                EXPECT_LE(carve.max, 1.15) << "carve size " << k << " pen " << pen << " " << angle;
+                EXPECT_GE(carve.min, 0.9) << "carve size " << k << " pen " << pen << " " << angle;
+                EXPECT_LE(carve.max, pen >= 1.0 ? 1.1 : 1.15)
+                    << "carve size " << k << " pen " << pen << " " << angle;
             }
-            for (double pen : {0.2, 0.6, 1.0}) {
+            for (double pen : {0.2, 0.6, 1.0, 1.4}) {
                 const Stats add = clayStroke(clay.get(), ToolOp::Add, k, pen, angle);
-                EXPECT_GE(add.min, 0.8) << "add size " << k << " pen " << pen << " " << angle;
+                EXPECT_GE(add.min, 0.9) << "add size " << k << " pen " << pen << " " << angle;
                 EXPECT_LE(add.max, 1.1) << "add size " << k << " pen " << pen << " " << angle;
             }
         }
@@ -432,8 +436,8 @@ TEST(CarveDepth, ADabHasTheToolsSize) {
         EXPECT_NEAR(st.mean(), 1.0, 0.07) << "size " << k;
         EXPECT_GE(st.min, 0.9) << "size " << k;
         EXPECT_LE(st.max, 1.05) << "size " << k;
-        EXPECT_GE(dabPit(k), 0.6) << "size " << k;
-        EXPECT_LE(dabPit(k), 1.1) << "size " << k;
+        EXPECT_GE(dabPit(k), 0.95) << "size " << k;
+        EXPECT_LE(dabPit(k), 1.05) << "size " << k;
     }
 }
 

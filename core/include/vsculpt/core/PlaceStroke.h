@@ -25,6 +25,7 @@ namespace vsculpt::core {
 
 class Sculpture;
 class FieldProbe;
+struct SweptTransfer;  // swept mode: the field a unit target change makes (PlaceStroke.cpp)
 
 /// Add: union with the swept tool. Carve: subtract it. Smooth: relax the surface under the
 /// tool toward its local average (not in thesis placement mode; docs/placement.md).
@@ -84,6 +85,8 @@ class StrokeBuilder {
 
   private:
     double preStrokeRawSum(const LatticeCoord& v, const Vec3& pos);
+    /// The same at any point (not only at a vertex of the tool's lattice).
+    FieldSample preStrokeSampleAt(const Vec3& pos);
     /// The field (without c) and its gradient before the stroke began.
     FieldSample preStrokeSample(const LatticeCoord& v, const Vec3& pos);
     /// Thesis and free modes: the vertices inside the swept tool decide their weights.
@@ -114,11 +117,26 @@ class StrokeBuilder {
     // Swept mode (docs/placement.md): each vertex near the path gets a target change of the
     // field, decided from the pre-stroke field; weights are the deconvolved target changes.
     struct Target {
-        double phi = 0;   // pre-stroke field without c
-        double grad = 0;  // |grad| of the pre-stroke field, per mm
-        double lateral = 0;
-        double change = 0;  // target change of the field at the vertex
+        double phi = 0;      // pre-stroke field without c
+        Vec3 gradient{0.0};  // of the pre-stroke field, per mm
+        double grad = 0;     // its length
+        double lateral = 0;  // closest approach of the path so far, mm
+        double change = 0;   // target change of the field at the vertex
+        // The control point: where the tool's lowest (carve) or highest (add) point lies along
+        // the pre-stroke normal, at the path's closest point to this vertex; the new surface
+        // must pass through it. Absent where the vertex sees no old surface.
+        std::optional<Vec3> control;
+        double controlPhi = 0;   // pre-stroke field (without c) there
+        double controlGrad = 0;  // and the length of its gradient, per mm
+        double base = 0;         // the vertex's weight from the targets alone (clamped)
+        double correction = 0;   // added to the target so the surface meets the control point
     };
+    // The correction of a vertex's target that brings the new surface to the control points
+    // around it (docs/placement.md, closed-loop fit).
+    double fitCorrection(const LatticeCoord& v, const Target& t);
+    double mDeconvolveReach = 0;  // the longest tap offset, lattice spacings
+    bool mAnyControl = false;     // some target of this stroke has a control point
+    std::shared_ptr<const SweptTransfer> mTransfer;
     std::unordered_map<LatticeCoord, Target, LatticeCoordHash> mTargets;
     struct Tap {
         LatticeCoord offset;

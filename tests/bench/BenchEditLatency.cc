@@ -20,14 +20,14 @@
 #include <time.h>
 
 #include <algorithm>
-#include <cstdlib>
-#include <string>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <numeric>
 #include <random>
+#include <string>
 #include <thread>
 #include <tuple>
 
@@ -88,7 +88,8 @@ DenseModel& denseModel(size_t n) {
     // VSCULPT_BENCH_PLACEMENT=swept builds them (and sculpts) in the default mode.
     SculptConfig cfg;
     const char* mode = std::getenv("VSCULPT_BENCH_PLACEMENT");
-    cfg.placement = mode && std::string(mode) == "swept" ? PlacementMode::Swept : PlacementMode::Free;
+    cfg.placement =
+        mode && std::string(mode) == "swept" ? PlacementMode::Swept : PlacementMode::Free;
     m.sculpture = std::make_unique<Sculpture>(cfg);
     Sculpture& s = *m.sculpture;
     std::mt19937 rng(14);
@@ -553,6 +554,24 @@ void openVdbArgs(benchmark::internal::Benchmark* b) {
 }
 BENCHMARK(BM_EditLatencyOpenVDB)->Apply(openVdbArgs)->Unit(benchmark::kMillisecond)->Iterations(1);
 
+/// The frame loops' three strokes across the pile's top (0°, 60°, 120°), one sample per
+/// 90 Hz frame, 0.1 D apart, each on the pre-stroke surface.
+constexpr int kFrames = 36;
+std::vector<std::vector<Vec3>> frameLoopPaths(FieldProbe& probe, const Vec3& top, double d) {
+    std::vector<std::vector<Vec3>> paths;
+    for (int r = 0; r < 3; ++r) {
+        const double a = 3.14159265358979 * r / 3;
+        std::vector<Vec3> path;
+        for (int i = 0; i < kFrames; ++i) {
+            const Vec3 p =
+                top + Vec3(std::cos(a), std::sin(a), 0) * ((i - 0.5 * kFrames) * 0.1 * d);
+            path.push_back(surfaceAbove(probe, p.x, p.y));
+        }
+        paths.push_back(std::move(path));
+    }
+    return paths;
+}
+
 /// Headless frame loop: a level-7 stroke at zoom 1 crossing the pile at about 300 mm/s
 /// (0.1 D per 90 Hz frame), one tool sample per frame, stamped with the frame's start. The
 /// frame thread does what the frame does today minus GL: applies the sample (placement and
@@ -579,18 +598,7 @@ void BM_FrameLoop(benchmark::State& state) {
         for (int y = 0; y < c; ++y)
             for (int z = 0; z < c; ++z)
                 shown[size_t(i++)] = poly.chunkVersion(x, y, z);
-    constexpr int kFrames = 36;
-    std::vector<std::vector<Vec3>> paths;
-    for (int r = 0; r < 3; ++r) {
-        const double a = 3.14159265358979 * r / 3;
-        std::vector<Vec3> path;
-        for (int i = 0; i < kFrames; ++i) {
-            const Vec3 p =
-                top + Vec3(std::cos(a), std::sin(a), 0) * ((i - 0.5 * kFrames) * 0.1 * d);
-            path.push_back(surfaceAbove(probe, p.x, p.y));
-        }
-        paths.push_back(std::move(path));
-    }
+    const std::vector<std::vector<Vec3>> paths = frameLoopPaths(probe, top, d);
     const auto period = std::chrono::nanoseconds(11'111'111);
     std::vector<double> frameCpu, frameWall, delay;
     int missed = 0;
@@ -667,18 +675,7 @@ void BM_FrameLoopAsync(benchmark::State& state) {
     std::vector<SkeletonWrite> writes;
     s.store().logWritesTo(&writes);
     AsyncMesher mesher(s, region, s.config().polygonizer.bisectionTolerance);
-    constexpr int kFrames = 36;
-    std::vector<std::vector<Vec3>> paths;
-    for (int r = 0; r < 3; ++r) {
-        const double a = 3.14159265358979 * r / 3;
-        std::vector<Vec3> path;
-        for (int i = 0; i < kFrames; ++i) {
-            const Vec3 p =
-                top + Vec3(std::cos(a), std::sin(a), 0) * ((i - 0.5 * kFrames) * 0.1 * d);
-            path.push_back(surfaceAbove(probe, p.x, p.y));
-        }
-        paths.push_back(std::move(path));
-    }
+    const std::vector<std::vector<Vec3>> paths = frameLoopPaths(probe, top, d);
     const auto period = std::chrono::nanoseconds(11'111'111);
     std::vector<double> frameCpu, frameWall, delay;
     std::vector<uint64_t> shown = mesher.published()->versions;

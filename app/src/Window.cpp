@@ -70,7 +70,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         return 2;
     }
     spdlog::debug("config: {}", cfg.source);
-    if (o.xr.value_or(cfg.render.output == "xr")) return runXr(o, out, err);
+    if (o.xr.value_or(cfg.render.output == "xr")) return runXr(o, cfg, std::move(script), out, err);
     std::map<int, std::string> actionOfKey;
     if (!bindingsByKey(cfg, cfg.interaction.bindings, "bindings", actionOfKey)) return 2;
     std::unique_ptr<render::Viewer> viewer;

@@ -77,15 +77,11 @@ void statusPanel(const Session& s, double frameMs, bool engaged, bool grabbing, 
 
 }  // namespace
 
-int runXr(const WindowOptions& options, std::ostream& out, std::ostream& err) {
+int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script script,
+          std::ostream& out, std::ostream& err) {
     LogScope log(err, options.verbosity, "vsculpt");
     const WindowOptions& o = options;
-    core::SculptConfig cfg;
-    Script script;
     try {
-        cfg = core::loadConfig(o.configPath.empty() ? core::defaultConfigPath()
-                                                    : std::filesystem::path(o.configPath));
-        if (!o.playScript.empty()) script = loadScript(o.playScript);
         if (!o.recordPath.empty()) core::ensureWritable(o.recordPath);
     } catch (const std::exception& e) {
         spdlog::error("{}", e.what());

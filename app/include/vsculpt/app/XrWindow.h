@@ -9,6 +9,8 @@
 #pragma once
 
 #include "vsculpt/app/Window.h"
+#include "vsculpt/core/Config.h"
+#include "vsculpt/studio/Script.h"
 
 #include <iosfwd>
 
@@ -17,7 +19,9 @@ namespace vsculpt::app {
 /// Exit codes: 0 when the session ends (--frames reached, the window closed, the runtime
 /// ended it); 1 when the headset is lost mid-session or an OpenXR call fails; 2 for bad
 /// input (config, script, project). No runtime or no headset: a warning saying why, then the
-/// desktop window (runWindow) and its exit code.
-int runXr(const WindowOptions& options, std::ostream& out, std::ostream& err);
+/// desktop window (runWindow) and its exit code. `cfg` and `script` are what runWindow
+/// loaded from the options (config file, --play), so neither is read twice.
+int runXr(const WindowOptions& options, const core::SculptConfig& cfg, studio::Script script,
+          std::ostream& out, std::ostream& err);
 
 }  // namespace vsculpt::app

@@ -56,6 +56,9 @@ std::filesystem::path defaultConfigPath() {
 namespace {
 
 /// Walks one JSON object, remembering which keys were read so unknown ones can be reported.
+/// An old bisection bracket over the root tolerance that places vertices about as exactly.
+constexpr double kLegacyBracketOverRootTolerance = 12.5;
+
 class Section {
   public:
     Section(const json& obj, std::string path, const std::string& source)
@@ -406,7 +409,22 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
             poly.fail("polygonizer.grid_n", "expected an integer, got " + v->dump());
         cfg.polygonizer.gridN = v->get<int>();
     }
-    poly.number("bisection_tolerance", cfg.polygonizer.bisectionTolerance);
+    // Configs and projects before the Illinois root finder gave a bisection bracket; its
+    // default (1/8) maps onto the new default (1/100), as do other values proportionally:
+    // the old vertices lay within about a twelfth of their bracket (docs/polygonizer.md).
+    double legacyBracket = 0;
+    if (poly.find("bisection_tolerance") && !poly.find("root_tolerance")) {
+        poly.number("bisection_tolerance", legacyBracket);
+        if (!(std::isfinite(legacyBracket) && legacyBracket >= 1e-9 && legacyBracket <= 0.5))
+            poly.fail("polygonizer.bisection_tolerance",
+                      "must be in [1e-9, 0.5] (a fraction of the grid spacing; got " +
+                          json(legacyBracket).dump() + ")");
+        cfg.polygonizer.rootTolerance = legacyBracket / kLegacyBracketOverRootTolerance;
+    } else if (poly.find("bisection_tolerance")) {
+        poly.fail("polygonizer.bisection_tolerance",
+                  "replaced by root_tolerance, which is also given: remove this one");
+    }
+    poly.number("root_tolerance", cfg.polygonizer.rootTolerance);
     poly.rejectUnknown();
 
     Section inter = top.sub("interaction");
@@ -606,7 +624,7 @@ std::string configToJson(const SculptConfig& c) {
                         {"depth_step_over_diameter", c.interaction.depthStepOverDiameter},
                         {"rotate_rad_per_pixel", c.interaction.rotateRadPerPixel}};
     j["polygonizer"] = {{"grid_n", c.polygonizer.gridN},
-                        {"bisection_tolerance", c.polygonizer.bisectionTolerance}};
+                        {"root_tolerance", c.polygonizer.rootTolerance}};
     return j.dump(2);
 }
 
@@ -718,11 +736,11 @@ void validateConfig(const SculptConfig& c) {
     if (c.polygonizer.gridN < 16 || c.polygonizer.gridN > 1024 || c.polygonizer.gridN % 16 != 0)
         fail("polygonizer.grid_n", "must be a multiple of 16 between 16 and 1024 (got " +
                                        std::to_string(c.polygonizer.gridN) + ")");
-    if (!(std::isfinite(c.polygonizer.bisectionTolerance) &&
-          c.polygonizer.bisectionTolerance >= 1e-9 && c.polygonizer.bisectionTolerance <= 0.5))
-        fail("polygonizer.bisection_tolerance",
+    if (!(std::isfinite(c.polygonizer.rootTolerance) && c.polygonizer.rootTolerance >= 1e-9 &&
+          c.polygonizer.rootTolerance <= 0.5))
+        fail("polygonizer.root_tolerance",
              "must be in [1e-9, 0.5] (a fraction of the grid spacing; got " +
-                 num(c.polygonizer.bisectionTolerance) + ")");
+                 num(c.polygonizer.rootTolerance) + ")");
 }
 
 }  // namespace vsculpt::core

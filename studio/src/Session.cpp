@@ -124,7 +124,7 @@ void Session::rebuildView() {
         return;
     }
     mView =
-        std::make_unique<Polygonizer>(*mSculpture, mRegion, mConfig.polygonizer.bisectionTolerance);
+        std::make_unique<Polygonizer>(*mSculpture, mRegion, mConfig.polygonizer.rootTolerance);
     mView->rebuildAll();
     ++mViewChanges;
 }
@@ -152,7 +152,7 @@ void Session::setAsyncMeshing(bool on) {
     if (on == asyncMeshing()) return;
     if (on) {
         mMesher = std::make_unique<AsyncMesher>(*mSculpture, mRegion,
-                                                mConfig.polygonizer.bisectionTolerance);
+                                                mConfig.polygonizer.rootTolerance);
         mWrites.clear();
         mSculpture->store().logWritesTo(&mWrites);
         mView.reset();
@@ -473,7 +473,7 @@ Mesh Session::wholeMesh(double spacing) const {
                            std::to_string(spacing) +
                            " mm; at most 1024 per axis: choose a coarser spacing");
     r.n = int(n);
-    Polygonizer poly(*mSculpture, r, mConfig.polygonizer.bisectionTolerance);
+    Polygonizer poly(*mSculpture, r, mConfig.polygonizer.rootTolerance);
     poly.rebuildAll();
     return poly.mesh();
 }

@@ -246,7 +246,7 @@ void BM_EditLatency(benchmark::State& state) {
         return;
     }
     const Strokes st = measuredStrokes(zoom, level, kMinSamples);
-    Polygonizer poly(s, st.region, s.config().polygonizer.bisectionTolerance);
+    Polygonizer poly(s, st.region, s.config().polygonizer.rootTolerance);
     poly.rebuildAll();
     std::vector<double> first, rest, placeMs, updateMs, publishMs;
     size_t evaluations = 0, blocks = 0, chunks = 0;
@@ -590,7 +590,7 @@ void BM_FrameLoop(benchmark::State& state) {
     FieldProbe probe(*denseModel(kPileOnly).sculpture);  // the same path in every model
     const Vec3 top = surfaceAbove(probe, kPileCenter.x, kPileCenter.y);
     const GridRegion region = zoomRegion(s.config(), s.levels(), 1, top);
-    Polygonizer poly(s, region, s.config().polygonizer.bisectionTolerance);
+    Polygonizer poly(s, region, s.config().polygonizer.rootTolerance);
     poly.rebuildAll();
     const int c = poly.chunksPerAxis();
     std::vector<uint64_t> shown(size_t(c) * c * c);  // the renderer's chunk versions
@@ -674,7 +674,7 @@ void BM_FrameLoopAsync(benchmark::State& state) {
     const GridRegion region = zoomRegion(s.config(), s.levels(), 1, top);
     std::vector<SkeletonWrite> writes;
     s.store().logWritesTo(&writes);
-    AsyncMesher mesher(s, region, s.config().polygonizer.bisectionTolerance);
+    AsyncMesher mesher(s, region, s.config().polygonizer.rootTolerance);
     const std::vector<std::vector<Vec3>> paths = frameLoopPaths(probe, top, d);
     const auto period = std::chrono::nanoseconds(11'111'111);
     std::vector<double> frameCpu, frameWall, delay;
@@ -766,7 +766,7 @@ void BM_Memory(benchmark::State& state) {
             std::unique_ptr<Polygonizer> poly;
             const size_t bytes = heapBytesKept([&] {
                 poly = std::make_unique<Polygonizer>(s, region,
-                                                     s.config().polygonizer.bisectionTolerance);
+                                                     s.config().polygonizer.rootTolerance);
                 poly->rebuildAll(false);
             });
             (zoom == 1 ? poly1 : poly3) = bytes;

@@ -57,7 +57,7 @@ void BM_FullPolygonize(benchmark::State& state) {
     size_t triangles = 0;
     for (auto _ : state) {
         const double tol = state.range(1) > 0 ? 1.0 / double(state.range(1))
-                                              : s.config().polygonizer.bisectionTolerance;
+                                              : s.config().polygonizer.rootTolerance;
         Polygonizer poly(s, region, tol);
         stats = poly.rebuildAll(state.range(0) != 0);
         state.PauseTiming();
@@ -176,12 +176,18 @@ void BM_FullPolygonizeOpenVDB(benchmark::State& state) {
                 return;
             }
             b.state = 2;
-            int n = 0;
-            for (int i2 = 0; i2 < 5; ++i2)
-                for (int j = 0; j < 5; ++j)
-                    for (int k = 0; k < 5; ++k)  // OpenVDB level sets are negative inside
-                        b.v[size_t(n++)] =
-                            float(-f.value(region.vertexPos(b.g[0] + i2, b.g[1] + j, b.g[2] + k)));
+            // Sampled as the polygonizer samples its blocks (each skeleton splatted onto the
+            // vertices it reaches), so both sides pay the same per grid value.
+            double xs[5], ys[5], zs[5], v[125];
+            for (int q = 0; q < 5; ++q) {
+                const Vec3 p = region.vertexPos(b.g[0] + q, b.g[1] + q, b.g[2] + q);
+                xs[q] = p.x;
+                ys[q] = p.y;
+                zs[q] = p.z;
+            }
+            f.gridValues(xs, ys, zs, v);
+            for (int n = 0; n < 125; ++n)  // OpenVDB level sets are negative inside
+                b.v[size_t(n)] = float(-v[n]);
         });
         // Serial insertion (grids are not thread-safe).
         openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(float(s.levels().iso()));

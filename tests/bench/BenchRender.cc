@@ -39,7 +39,8 @@ Scene& sceneWith(long triangles) {
     r.n = int(std::ceil(90.0 / h / 16)) * 16;
     for (int a = 0; a < 3; ++a)
         r.originCell[a] = -r.n / 2;
-    sc.poly = std::make_unique<core::Polygonizer>(*sc.sculpture, r, 0.125);
+    sc.poly = std::make_unique<core::Polygonizer>(*sc.sculpture, r,
+                                                  core::PolygonizerConfig{}.rootTolerance);
     sc.poly->rebuildAll();
     return sc;
 }
@@ -112,7 +113,8 @@ void BM_SampleToFrame(benchmark::State& state) {
     if (!viewer) return;
     core::SculptConfig cfg;
     core::Sculpture s(cfg);
-    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, Vec3(0)), 0.125);
+    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, Vec3(0)),
+                           core::PolygonizerConfig{}.rootTolerance);
     poly.rebuildAll();
     viewer->syncChunks(poly);
     const core::Aabb box{Vec3(-60), Vec3(60)};

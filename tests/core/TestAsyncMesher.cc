@@ -33,7 +33,7 @@ SculptConfig sphereConfig() {
 }
 
 uint64_t fullRebuildHash(const Sculpture& s, const GridRegion& region) {
-    Polygonizer full(s, region, s.config().polygonizer.bisectionTolerance);
+    Polygonizer full(s, region, s.config().polygonizer.rootTolerance);
     full.rebuildAll();
     return canonicalMeshHash(full.mesh());
 }
@@ -66,13 +66,13 @@ TEST(AsyncMesher, EveryCompleteSetEqualsAFullRebuildAtItsEdit) {
     s.store().logWritesTo(&writes);
     GridRegion region = zoomRegion(cfg, s.levels(), 1, Vec3(0.0));
     Seen seen;
-    AsyncMesher mesher(s, region, cfg.polygonizer.bisectionTolerance, seen.options());
+    AsyncMesher mesher(s, region, cfg.polygonizer.rootTolerance, seen.options());
     EXPECT_TRUE(mesher.published()->complete);
     EXPECT_EQ(canonicalMeshHash(mesher.published()->merged()), fullRebuildHash(s, region));
 
     // The reference: the mesh a full rebuild gives after every edit (the incremental
     // polygonizer equals it: TestPolygonizer's PartialEqualsFull).
-    auto ref = std::make_unique<Polygonizer>(s, region, cfg.polygonizer.bisectionTolerance);
+    auto ref = std::make_unique<Polygonizer>(s, region, cfg.polygonizer.rootTolerance);
     ref->rebuildAll();
     std::map<uint64_t, uint64_t> refHash;
     std::map<uint64_t, GridRegion> refRegion;
@@ -83,7 +83,7 @@ TEST(AsyncMesher, EveryCompleteSetEqualsAFullRebuildAtItsEdit) {
         if (stroke == 3 || stroke == 6) {  // zoom in, then back out
             region = zoomRegion(cfg, s.levels(), stroke == 3 ? 3 : 1, focus);
             const uint64_t e = mesher.setRegion(region);
-            ref = std::make_unique<Polygonizer>(s, region, cfg.polygonizer.bisectionTolerance);
+            ref = std::make_unique<Polygonizer>(s, region, cfg.polygonizer.rootTolerance);
             ref->rebuildAll();
             refHash[e] = canonicalMeshHash(ref->mesh());
             refRegion[e] = region;
@@ -136,7 +136,7 @@ TEST(AsyncMesher, EditsPostedDuringARebuildAreCoalescedIntoOnePass) {
     std::vector<SkeletonWrite> writes;
     s.store().logWritesTo(&writes);
     const GridRegion region = zoomRegion(cfg, s.levels(), 1, Vec3(0.0));
-    AsyncMesher mesher(s, region, cfg.polygonizer.bisectionTolerance);
+    AsyncMesher mesher(s, region, cfg.polygonizer.rootTolerance);
     const size_t passesBefore = mesher.passes();
     mesher.hold(true);  // as if a long rebuild were running: the edits queue up
     StrokeBuilder builder(s, ToolOp::Add, 6);
@@ -165,7 +165,7 @@ TEST(AsyncMesher, ARegionChangeSupersedesTheOneBefore) {
     const GridRegion a = zoomRegion(cfg, s.levels(), 2, Vec3(0, 0, 30));
     const GridRegion b = zoomRegion(cfg, s.levels(), 3, Vec3(30, 0, 0));
     Seen seen;
-    AsyncMesher mesher(s, zoom1, cfg.polygonizer.bisectionTolerance, seen.options());
+    AsyncMesher mesher(s, zoom1, cfg.polygonizer.rootTolerance, seen.options());
     mesher.hold(true);
     mesher.setRegion(a);
     mesher.setRegion(b);
@@ -190,7 +190,7 @@ TEST(AsyncMesher, ClosingWhileBusyNeitherHangsNorLosesTheCallersSculpture) {
     const size_t before = s.store().vertexCount();
     {
         AsyncMesher mesher(s, zoomRegion(cfg, s.levels(), 1, Vec3(0.0)),
-                           cfg.polygonizer.bisectionTolerance);
+                           cfg.polygonizer.rootTolerance);
         StrokeBuilder builder(s, ToolOp::Add, 5);
         for (const Vec3& p : linePath(Vec3(-20, 0, 29), Vec3(20, 0, 29), 1.0)) {
             const EditResult r = builder.addSample(p);
@@ -206,7 +206,7 @@ TEST(Polygonizer, ACancelledRebuildLeavesExactlyTheBlocksItDidNotReach) {
     const SculptConfig cfg = sphereConfig();
     Sculpture s(cfg);
     const GridRegion region = zoomRegion(cfg, s.levels(), 1, Vec3(0.0));
-    Polygonizer poly(s, region, cfg.polygonizer.bisectionTolerance);
+    Polygonizer poly(s, region, cfg.polygonizer.rootTolerance);
     poly.rebuildAll();
     StrokeBuilder builder(s, ToolOp::Add, 5);
     Polygonizer::BlockList dirty;
@@ -254,7 +254,7 @@ TEST(Polygonizer, UpdatesCountTheBlocksTheyCull) {
     const SculptConfig cfg = sphereConfig();
     Sculpture s(cfg);
     const GridRegion region = zoomRegion(cfg, s.levels(), 1, Vec3(0.0));
-    Polygonizer poly(s, region, cfg.polygonizer.bisectionTolerance);
+    Polygonizer poly(s, region, cfg.polygonizer.rootTolerance);
     poly.rebuildAll();
     // A box around the whole region: blocks deep inside and far outside the sphere cannot
     // hold the surface, and the update says how many it skipped.

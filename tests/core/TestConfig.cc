@@ -58,7 +58,7 @@ TEST(Config, ShippedFileEqualsBuiltInDefaults) {
     EXPECT_EQ(file.zoom.baseSpacingOverD6, def.zoom.baseSpacingOverD6);
     EXPECT_EQ(file.zoom.allowedSizes, def.zoom.allowedSizes);
     EXPECT_EQ(file.polygonizer.gridN, def.polygonizer.gridN);
-    EXPECT_EQ(file.polygonizer.bisectionTolerance, def.polygonizer.bisectionTolerance);
+    EXPECT_EQ(file.polygonizer.rootTolerance, def.polygonizer.rootTolerance);
     EXPECT_EQ(file.interaction.bindings, def.interaction.bindings);
     EXPECT_EQ(file.render.stereo, def.render.stereo);
     EXPECT_EQ(file.render.ipdMm, def.render.ipdMm);
@@ -107,6 +107,21 @@ TEST(Config, ParsesEveryKey) {
     EXPECT_EQ(c.sphereRadiusMm, 0);
     EXPECT_EQ(c.sphereCenterMm, Vec3(1, 2, 3));
     EXPECT_EQ(c.source, "x.json");
+}
+
+// Projects and configs written before the Illinois root finder name a bisection bracket; the
+// old default must still mean the new default, other values proportionally.
+TEST(Config, AnOldBisectionBracketBecomesTheRootTolerance) {
+    const SculptConfig def;
+    EXPECT_EQ(parseConfig(R"({"polygonizer": {"bisection_tolerance": 0.125}})", "old.json")
+                  .polygonizer.rootTolerance,
+              def.polygonizer.rootTolerance);
+    EXPECT_DOUBLE_EQ(parseConfig(R"({"polygonizer": {"bisection_tolerance": 0.0125}})", "old.json")
+                         .polygonizer.rootTolerance,
+                     0.001);
+    EXPECT_EQ(parseConfig(R"({"polygonizer": {"root_tolerance": 0.002}})", "new.json")
+                  .polygonizer.rootTolerance,
+              0.002);
 }
 
 TEST(Config, ReadsTheHeadsetSection) {
@@ -200,8 +215,11 @@ TEST(Config, BadValuesNameTheKeyAndReason) {
         {R"({"render": {"lens": {"k3": 0}}})", "render.lens.k3: unknown key"},
         {R"({"render": {"ipd_mm": -1}})", "render.ipd_mm: must be in [0, 200] mm"},
         {R"({"polygonizer": {"grid_n": 1.5}})", "polygonizer.grid_n: expected an integer"},
+        {R"({"polygonizer": {"root_tolerance": 0.9}})", "polygonizer.root_tolerance: must be in"},
         {R"({"polygonizer": {"bisection_tolerance": 0.9}})",
          "polygonizer.bisection_tolerance: must be in"},
+        {R"({"polygonizer": {"bisection_tolerance": 0.1, "root_tolerance": 0.01}})",
+         "polygonizer.bisection_tolerance: replaced by root_tolerance"},
     };
     for (const Bad& b : cases) {
         const std::string e = errorOf(b.json);

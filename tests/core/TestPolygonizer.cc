@@ -6,6 +6,9 @@
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <random>
 #include <set>
@@ -192,6 +195,73 @@ TEST(Polygonizer, GridValuesSplattedPerSkeletonAreTheFieldBitForBit) {
     EXPECT_GT(nonzero, 2000u);  // the blocks do meet clay
 }
 
+/// The distance from p to the surface f = 0 along the gradient line through p (found by
+/// bisection to 1e-9 mm), or -1 when no sign change lies within `reach`.
+double distanceToSurface(FieldProbe& probe, const Vec3& p, double reach) {
+    const FieldSample s = probe.sample(p);
+    const double g = glm::length(s.gradient);
+    if (s.value == 0) return 0;
+    if (g == 0) return -1;
+    // Uphill when outside (f < 0), downhill when inside.
+    const Vec3 dir = (s.value < 0 ? 1.0 : -1.0) * s.gradient / g;
+    const bool inside = s.value > 0;
+    double lo = 0, hi = reach / 64;
+    while ((probe.value(p + hi * dir) > 0) == inside) {
+        lo = hi;
+        hi *= 2;
+        if (hi > reach) return -1;
+    }
+    while (hi - lo > 1e-9) {
+        const double mid = 0.5 * (lo + hi);
+        ((probe.value(p + mid * dir) > 0) == inside ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+// Edge roots are refined by Illinois steps until |f| / |grad f| (the first-order distance to
+// the surface) is below the tolerance: the true distance of every vertex from the surface
+// must stay below it too, on sculpted clay with strokes of every size in both placement modes.
+TEST(Polygonizer, EdgeVerticesLieWithinTheToleranceOfTheSurface) {
+    const bool print = std::getenv("VSCULPT_PRINT_ROOTS") != nullptr;
+    for (PlacementMode mode : {PlacementMode::Swept, PlacementMode::Free}) {
+        SculptConfig cfg = emptyConfig(mode);
+        cfg.sphereRadiusMm = 30;
+        cfg.polygonizer.gridN = 48;
+        Sculpture s(cfg);
+        std::mt19937 rng(7);
+        std::uniform_real_distribution<double> U(-28, 28);
+        for (int stroke = 0; stroke < 10; ++stroke) {
+            const int level = 3 + stroke % 5;
+            const ToolOp op = stroke % 3 == 2 ? ToolOp::Carve : ToolOp::Add;
+            const Vec3 a(U(rng), U(rng), U(rng)), b(U(rng), U(rng), U(rng));
+            const Vec3 pa = glm::normalize(a) * 30.0, pb = glm::normalize(b) * 30.0;
+            applyStroke(s, op, level, linePath(pa, pb, 0.3 * s.levels().level(level).diameterMm));
+        }
+        const GridRegion region = zoomRegion(cfg, s.levels(), 1, Vec3(0.0));
+        for (double tol : {0.01, 0.1, 1e-3}) {
+            Polygonizer poly(s, region, tol);
+            const PolygonizeStats st = poly.rebuildAll();
+            const Mesh m = poly.mesh();
+            ASSERT_GT(m.positions.size(), 1000u);
+            FieldProbe probe(s);
+            std::vector<double> d;
+            for (const Vec3& p : m.positions) {
+                const double dist = distanceToSurface(probe, p, 2 * region.spacingMm);
+                ASSERT_GE(dist, 0) << "no surface near " << p.x << " " << p.y << " " << p.z;
+                d.push_back(dist / region.spacingMm);
+            }
+            std::sort(d.begin(), d.end());
+            if (print)
+                std::printf(
+                    "%s tol %.3g: %zu vertices, %.2f evaluations per vertex"
+                    "; distance / spacing p50 %.2e p99 %.2e max %.2e\n",
+                    toString(mode), tol, d.size(), double(st.evaluations) / double(d.size()),
+                    d[d.size() / 2], d[d.size() * 99 / 100], d.back());
+            EXPECT_LE(d.back(), tol) << toString(mode) << " tolerance " << tol;
+        }
+    }
+}
+
 struct Scenario {
     PlacementMode mode;
     int zoom;
@@ -210,7 +280,7 @@ TEST_P(PartialEqualsFull, AfterRandomStrokes) {
     Sculpture s(cfg);
     const Vec3 focus = glm::normalize(Vec3(0.3, 0.5, 0.8)) * 30.0;
     const GridRegion region = zoomRegion(cfg, s.levels(), zoom, focus);
-    Polygonizer poly(s, region, cfg.polygonizer.bisectionTolerance);
+    Polygonizer poly(s, region, cfg.polygonizer.rootTolerance);
     poly.rebuildAll();
     std::mt19937 rng(100 + zoom * 7 + int(mode));
     const double extent = 0.3 * region.n * region.spacingMm;
@@ -230,7 +300,7 @@ TEST_P(PartialEqualsFull, AfterRandomStrokes) {
             else
                 poly.update(r.changedPoints, r.supportMm);
         }
-        Polygonizer full(s, region, cfg.polygonizer.bisectionTolerance);
+        Polygonizer full(s, region, cfg.polygonizer.rootTolerance);
         full.rebuildAll();
         const Mesh inc = poly.mesh(), ref = full.mesh();
         ASSERT_EQ(canonicalMeshHash(inc), canonicalMeshHash(ref))

@@ -114,7 +114,7 @@ TEST(Mirror, TheMeshIsMirrorSymmetric) {
     applyStroke(s, ToolOp::Add, 5, path({{18, -30, 22}, {30, -18, 30}, {36, 4, 26}}), nullptr,
                 MirrorAxis::X);
     applyStroke(s, ToolOp::Carve, 5, path({{10, -38, -6}, {37, -6, -14}}), nullptr, MirrorAxis::X);
-    Polygonizer poly(s, zoomRegion(cfg, s.levels(), 1, Vec3(0)), 0.125);
+    Polygonizer poly(s, zoomRegion(cfg, s.levels(), 1, Vec3(0)), PolygonizerConfig{}.rootTolerance);
     poly.rebuildAll();
     const Mesh mesh = poly.mesh();
     ASSERT_GT(mesh.triangleCount(), 1000u);
@@ -168,7 +168,8 @@ double roughness(const Sculpture& s) {
 }
 
 double volume(const Sculpture& s) {
-    Polygonizer poly(s, zoomRegion(s.config(), s.levels(), 1, Vec3(0)), 0.125);
+    Polygonizer poly(s, zoomRegion(s.config(), s.levels(), 1, Vec3(0)),
+                     PolygonizerConfig{}.rootTolerance);
     poly.rebuildAll();
     return meshVolume(poly.mesh());
 }

@@ -66,7 +66,8 @@ core::Mesh carvedRingMesh() {
     core::applyStroke(s, core::ToolOp::Carve, 6, upper);
     core::applyStroke(s, core::ToolOp::Add, 5, upper);
     core::applyStroke(s, core::ToolOp::Carve, 6, lower);
-    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, Vec3(0)), 0.125);
+    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, Vec3(0)),
+                           core::PolygonizerConfig{}.rootTolerance);
     poly.rebuildAll();
     return poly.mesh();
 }

@@ -138,7 +138,8 @@ TEST(Viewer, DrawsChunksAndReuploadsOnlyChangedOnes) {
     cfg.sphereRadiusMm = 30;
     cfg.polygonizer.gridN = 64;
     core::Sculpture s(cfg);
-    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)), 0.125);
+    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)),
+                           core::PolygonizerConfig{}.rootTolerance);
     poly.rebuildAll();
     Viewer viewer(320, 240, "test", false);
     const size_t first = viewer.syncChunks(poly);
@@ -193,7 +194,8 @@ TEST(Viewer, UiIsCompositedIntoEachEyeAtItsDepth) {
     cfg.sphereRadiusMm = 30;
     cfg.polygonizer.gridN = 32;
     core::Sculpture s(cfg);
-    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)), 0.125);
+    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)),
+                           core::PolygonizerConfig{}.rootTolerance);
     poly.rebuildAll();
     Viewer viewer(480, 240, "test", false);
     viewer.syncChunks(poly);
@@ -256,7 +258,8 @@ TEST(Viewer, LensCorrectionResamplesEachEye) {
     cfg.sphereRadiusMm = 30;
     cfg.polygonizer.gridN = 64;
     core::Sculpture s(cfg);
-    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)), 0.125);
+    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)),
+                           core::PolygonizerConfig{}.rootTolerance);
     poly.rebuildAll();
     Viewer viewer(480, 240, "test", false);
     viewer.syncChunks(poly);
@@ -298,7 +301,8 @@ TEST(Viewer, TrackedHeadReplacesTheFramingCamera) {
     cfg.sphereRadiusMm = 30;
     cfg.polygonizer.gridN = 32;
     core::Sculpture s(cfg);
-    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)), 0.125);
+    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)),
+                           core::PolygonizerConfig{}.rootTolerance);
     poly.rebuildAll();
     Viewer viewer(320, 240, "test", false);
     viewer.syncChunks(poly);
@@ -338,7 +342,8 @@ TEST(Viewer, ViewAreaConfinesDrawingAndPicking) {
     cfg.sphereRadiusMm = 30;
     cfg.polygonizer.gridN = 32;
     core::Sculpture s(cfg);
-    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)), 0.125);
+    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)),
+                           core::PolygonizerConfig{}.rootTolerance);
     poly.rebuildAll();
     Viewer viewer(400, 200, "test", false);
     viewer.syncChunks(poly);

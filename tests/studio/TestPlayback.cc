@@ -63,7 +63,7 @@ TEST(Playback, Snowman) {
         core::Polygonizer poly(
             s->sculpture(),
             core::zoomRegion(cfg, s->sculpture().levels(), z, core::Vec3(0, -10, 96)),
-            cfg.polygonizer.bisectionTolerance);
+            cfg.polygonizer.rootTolerance);
         poly.rebuildAll();
         return poly.mesh();
     };

@@ -54,8 +54,10 @@ struct ZoomConfig {
 };
 
 struct PolygonizerConfig {
-    int gridN = 128;                    ///< N: cells per axis of the region on show (thesis: N^3)
-    double bisectionTolerance = 0.125;  ///< edge-root bracket, as a fraction of the spacing
+    int gridN = 128;  ///< N: cells per axis of the region on show (thesis: N^3)
+    /// Edge roots are refined until |f| / |grad f| (the first-order distance of the vertex
+    /// from the surface) is below this fraction of the grid spacing (docs/polygonizer.md).
+    double rootTolerance = 0.01;
 };
 
 /// Actions of the window's keyboard, in configs/sculpt.json "interaction.bindings".

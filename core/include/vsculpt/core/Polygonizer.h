@@ -7,7 +7,7 @@
 /// Each grid cube is split into the 6 Kuhn tetrahedra around its (0,0,0)-(1,1,1) diagonal,
 /// the same way in every cube, so neighbouring cubes share faces exactly. Field signs at the
 /// tetrahedron corners (inside: f > 0) give 0, 1 or 2 triangles; edge crossings are found by
-/// bisection to a tolerance; triangles face outward; vertices are shared per grid edge and
+/// Illinois steps until the vertex lies within a tolerance of the surface; triangles face outward; vertices are shared per grid edge and
 /// carry normals from the field gradient.
 ///
 /// Work is organised in blocks of 4^3 cells (the unit of rebuilding) and chunks of 8^3
@@ -47,7 +47,8 @@ class Polygonizer {
     static constexpr int kBlockCells = 4;
     static constexpr int kChunkCells = 8;
 
-    /// @param relTolerance edge-root bisection tolerance as a fraction of the grid spacing
+    /// @param relTolerance how far a vertex may lie from the surface (first-order estimate
+    ///        |f| / |grad f|), as a fraction of the grid spacing
     /// @pre region.n is a multiple of 16; the grid's integer coordinates fit in +-2^19.
     Polygonizer(const Sculpture& sculpture, const GridRegion& region, double relTolerance);
 

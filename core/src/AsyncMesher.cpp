@@ -215,6 +215,9 @@ void AsyncMesher::loop() {
             std::vector<const Job*> dirty;
             for (const Job& j : jobs) {
                 mReplica->store().apply(j.writes);
+                // Keeps the polygonizer's grid sums current (no grid evaluations to rebuild
+                // the blocks the writes reach); a region change below starts afresh anyway.
+                if (mPoly && !newRegion) mPoly->noteWrites(j.writes);
                 if (j.region) {
                     newRegion = j.region;
                     dirty.clear();

@@ -308,18 +308,82 @@ void LocalField::gridValues(std::span<const double> xs, std::span<const double> 
         out[q] -= mIso;
 }
 
+void splatFixed(const HermiteFalloff& falloff, const Vec3& c, double w, double invR, double r2,
+                std::span<const double> xs, std::span<const double> ys, std::span<const double> zs,
+                int64_t* out, int64_t sign) {
+    const size_t ny = ys.size(), nz = zs.size();
+    if (xs.size() > 16 || ny > 16 || nz > 16)
+        throw std::invalid_argument("splatFixed: at most 16^3");
+    // A conservative index range per axis (one vertex of slack each side); the exact test
+    // is d2 < r2 below.
+    const double r = std::sqrt(r2);
+    auto range = [r](std::span<const double> v, double center, size_t& lo, size_t& hi) {
+        const double h = v.size() > 1 ? v[1] - v[0] : 1.0;
+        const double a = std::floor((center - r - v[0]) / h) - 1,
+                     b = std::ceil((center + r - v[0]) / h) + 1;
+        lo = size_t(std::clamp(a, 0.0, double(v.size())));
+        hi = size_t(std::clamp(b + 1, 0.0, double(v.size())));  // exclusive
+    };
+    size_t i0, i1, j0, j1, k0, k1;
+    range(xs, c.x, i0, i1);
+    range(ys, c.y, j0, j1);
+    range(zs, c.z, k0, k1);
+    if (i0 >= i1 || j0 >= j1 || k0 >= k1) return;
+    double dx2[16], dy2[16], dz2[16];
+    for (size_t i = i0; i < i1; ++i)
+        dx2[i] = (xs[i] - c.x) * (xs[i] - c.x);
+    for (size_t j = j0; j < j1; ++j)
+        dy2[j] = (ys[j] - c.y) * (ys[j] - c.y);
+    for (size_t k = k0; k < k1; ++k)
+        dz2[k] = (zs[k] - c.z) * (zs[k] - c.z);
+    for (size_t i = i0; i < i1; ++i)
+        for (size_t j = j0; j < j1; ++j) {
+            const double xy = dx2[i] + dy2[j];
+            if (xy >= r2) continue;
+            int64_t* row = out + (i * ny + j) * nz;
+            for (size_t k = k0; k < k1; ++k) {
+                const double d2 = xy + dz2[k];
+                if (d2 >= r2) continue;
+                row[k] += sign * fixedTerm(w * falloff.value(std::sqrt(d2) * invR));
+            }
+        }
+}
+
+void LocalField::gridSums(std::span<const double> xs, std::span<const double> ys,
+                          std::span<const double> zs, int64_t* out) const {
+    std::fill(out, out + xs.size() * ys.size() * zs.size(), int64_t(0));
+    for (size_t s = 0; s < mX.size(); ++s)
+        splatFixed(*mFalloff, Vec3(mX[s], mY[s], mZ[s]), mW[s], mInvR[s], mR2[s], xs, ys, zs, out,
+                   1);
+}
+
 FieldSample LocalField::sample(const Vec3& p) const {
+    // Two passes as in value(): squared distances for all skeletons (vectorised), then value
+    // and gradient terms only for those in reach, with FieldProbe's operations and order.
     FieldSample out;
     double sum = 0;
     const size_t n = mX.size();
-    for (size_t i = 0; i < n; ++i) {
-        const Vec3 d(p.x - mX[i], p.y - mY[i], p.z - mZ[i]);
-        const double r2 = glm::dot(d, d);
-        if (r2 >= mR2[i]) continue;
-        const double r = std::sqrt(r2);
-        const double u = r * mInvR[i];
-        sum += mW[i] * mFalloff->value(u);
-        if (r > 0) out.gradient += d * (mW[i] * mFalloff->derivative(u) * mInvR[i] / r);
+    constexpr size_t kChunk = 64;
+    double r2s[kChunk];
+    for (size_t base = 0; base < n; base += kChunk) {
+        const size_t m = std::min(kChunk, n - base);
+        const double* x = mX.data() + base;
+        const double* y = mY.data() + base;
+        const double* z = mZ.data() + base;
+        for (size_t i = 0; i < m; ++i) {
+            const double dx = p.x - x[i], dy = p.y - y[i], dz = p.z - z[i];
+            r2s[i] = dx * dx + dy * dy + dz * dz;
+        }
+        for (size_t q = 0; q < m; ++q) {
+            const size_t i = base + q;
+            const double r2 = r2s[q];
+            if (r2 >= mR2[i]) continue;
+            const Vec3 d(p.x - mX[i], p.y - mY[i], p.z - mZ[i]);
+            const double r = std::sqrt(r2);
+            const double u = r * mInvR[i];
+            sum += mW[i] * mFalloff->value(u);
+            if (r > 0) out.gradient += d * (mW[i] * mFalloff->derivative(u) * mInvR[i] / r);
+        }
     }
     out.value = sum - mIso;
     return out;

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -62,6 +63,8 @@ Polygonizer::Polygonizer(const Sculpture& sculpture, const GridRegion& region, d
     if (!(relTolerance > 0)) throw std::invalid_argument("bisection tolerance must be > 0");
     mBlocksPerAxis = region.n / kBlockCells;
     mBlocks.resize(size_t(mBlocksPerAxis) * mBlocksPerAxis * mBlocksPerAxis);
+    mSums.resize(mBlocks.size());
+    mSumsAt = sculpture.store().writeCount();
     const int c = chunksPerAxis();
     mChunkVersions.assign(size_t(c) * c * c, 0);
 }
@@ -76,32 +79,41 @@ Aabb Polygonizer::blockBox(int bx, int by, int bz, int cells) const {
 bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& evals) const {
     out.vertices.clear();
     out.triangles.clear();
-    const LocalField field(mSculpture, blockBox(bx, by, bz, kBlockCells));
-    if (!field.bounds().mayContainSurface()) return false;
-
+    const Aabb box = blockBox(bx, by, bz, kBlockCells);
+    std::optional<LocalField> field;  // gathered only where it is needed
     constexpr int V = kBlockCells + 1;
     const int64_t gx0 = mRegion.originCell[0] + int64_t(bx) * kBlockCells;
     const int64_t gy0 = mRegion.originCell[1] + int64_t(by) * kBlockCells;
     const int64_t gz0 = mRegion.originCell[2] + int64_t(bz) * kBlockCells;
-    double values[V][V][V];
-    // The block's grid values with each skeleton splatted onto the vertices it reaches: the
-    // same bits as field.value at each vertex (LocalField::gridValues), without visiting every
-    // skeleton at every vertex (piled-up clay: many small skeletons per block).
-    double xs[V], ys[V], zs[V];
-    for (int i = 0; i < V; ++i) {
-        const Vec3 p = mRegion.vertexPos(gx0 + i, gy0 + i, gz0 + i);
-        xs[i] = p.x;
-        ys[i] = p.y;
-        zs[i] = p.z;
+    std::unique_ptr<BlockSums>& sums = mSums[blockIndex(bx, by, bz)];
+    if (!sums) {
+        field.emplace(mSculpture, box);
+        if (!field->bounds().mayContainSurface()) return false;
+        // Each skeleton splatted onto the vertices it reaches (not every skeleton visited at
+        // every vertex: piled-up clay has many small skeletons per block), in fixed point so
+        // that noteWrites can keep the sums exact afterwards.
+        double xs[V], ys[V], zs[V];
+        for (int i = 0; i < V; ++i) {
+            const Vec3 p = mRegion.vertexPos(gx0 + i, gy0 + i, gz0 + i);
+            xs[i] = p.x;
+            ys[i] = p.y;
+            zs[i] = p.z;
+        }
+        sums = std::make_unique<BlockSums>();
+        field->gridSums(xs, ys, zs, sums->data());
+        evals += V * V * V;
     }
-    field.gridValues(xs, ys, zs, &values[0][0][0]);
+    const double iso = mSculpture.levels().iso();
+    double values[V][V][V];
     bool anyIn = false, anyOut = false;
     for (int i = 0; i < V; ++i)
         for (int j = 0; j < V; ++j)
-            for (int k = 0; k < V; ++k)
+            for (int k = 0; k < V; ++k) {
+                values[i][j][k] = fixedToField((*sums)[size_t((i * V + j) * V + k)], iso);
                 (values[i][j][k] > 0 ? anyIn : anyOut) = true;
-    evals += V * V * V;
+            }
     if (!anyIn || !anyOut) return true;
+    if (!field) field.emplace(mSculpture, box);
 
     // Grid edges of the block by local start vertex and direction: computed yet or not.
     // (A flat table: no hashing or allocation on this hot path.)
@@ -136,7 +148,7 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
         for (int step = 0;; ++step) {
             const double t = std::clamp(flo / (flo - fhi), 0.0, 1.0);
             p = lo + t * (hi - lo);
-            s = field.sample(p);
+            s = field->sample(p);
             ++evals;
             // |f| / |grad f|: the first-order distance from p to the surface.
             if (std::abs(s.value) <= kFirstOrderMargin * mTolerance * glm::length(s.gradient) ||
@@ -226,8 +238,75 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
     return true;
 }
 
+void Polygonizer::dropSums() {
+    for (auto& s : mSums)
+        s.reset();
+}
+
+size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
+    const uint64_t now = mSculpture.store().writeCount();
+    if (now != mSumsAt + writes.size()) {  // some write went unseen: start afresh
+        dropSums();
+        mSumsAt = now;
+        return 0;
+    }
+    mSumsAt = now;
+    const ToolLevels& levels = mSculpture.levels();
+    const HermiteFalloff& falloff = levels.falloff();
+    const Aabb region = mRegion.box();
+    const double blockSize = kBlockCells * mRegion.spacingMm;
+    constexpr int V = kBlockCells + 1;
+    size_t terms = 0;
+    for (const SkeletonWrite& w : writes) {
+        const double before = w.before ? double(*w.before) : 0.0;
+        const double after = w.weight ? double(*w.weight) : 0.0;
+        if (before == after) continue;
+        const ToolLevel& tl = levels.level(w.level);
+        // The centre, 1/R and R^2 exactly as LocalField computes them.
+        const double h = tl.spacingMm, R = tl.supportMm;
+        const Vec3 c(w.coord.x * h, w.coord.y * h, w.coord.z * h);
+        const double invR = 1.0 / R, r2 = R * R;
+        int lo[3], hi[3];
+        bool outside = false;
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::max(0, int(std::floor((c[a] - R - region.min[a]) / blockSize)) - 1);
+            hi[a] = std::min(mBlocksPerAxis - 1,
+                             int(std::floor((c[a] + R - region.min[a]) / blockSize)) + 1);
+            outside |= lo[a] > hi[a];
+        }
+        if (outside) continue;
+        for (int bx = lo[0]; bx <= hi[0]; ++bx)
+            for (int by = lo[1]; by <= hi[1]; ++by)
+                for (int bz = lo[2]; bz <= hi[2]; ++bz) {
+                    BlockSums* s = mSums[blockIndex(bx, by, bz)].get();
+                    if (!s) continue;
+                    const int64_t gx0 = mRegion.originCell[0] + int64_t(bx) * kBlockCells;
+                    const int64_t gy0 = mRegion.originCell[1] + int64_t(by) * kBlockCells;
+                    const int64_t gz0 = mRegion.originCell[2] + int64_t(bz) * kBlockCells;
+                    double xs[V], ys[V], zs[V];
+                    for (int i = 0; i < V; ++i) {
+                        const Vec3 p = mRegion.vertexPos(gx0 + i, gy0 + i, gz0 + i);
+                        xs[i] = p.x;
+                        ys[i] = p.y;
+                        zs[i] = p.z;
+                    }
+                    if (before != 0)
+                        splatFixed(falloff, c, before, invR, r2, xs, ys, zs, s->data(), -1);
+                    if (after != 0)
+                        splatFixed(falloff, c, after, invR, r2, xs, ys, zs, s->data(), 1);
+                    terms += 2;
+                }
+    }
+    return terms;
+}
+
 PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& blocks, bool threaded,
                                      bool cullChunksFirst, const std::atomic<bool>* cancel) {
+    // Kept sums are current only if every write since they were made was noted.
+    if (mSculpture.store().writeCount() != mSumsAt) {
+        dropSums();
+        mSumsAt = mSculpture.store().writeCount();
+    }
     PolygonizeStats stats;
     stats.blocksConsidered = blocks.size();
     std::vector<char> culled(blocks.size(), 0);

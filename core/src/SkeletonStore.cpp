@@ -54,6 +54,10 @@ SkeletonStore::~SkeletonStore() = default;
 SkeletonStore::SkeletonStore(SkeletonStore&&) noexcept = default;
 SkeletonStore& SkeletonStore::operator=(SkeletonStore&&) noexcept = default;
 
+uint64_t SkeletonStore::writeCount() const {
+    return mImpl->writes;
+}
+
 SkeletonStore SkeletonStore::clone() const {
     SkeletonStore copy;
     *copy.mImpl = *mImpl;
@@ -83,7 +87,8 @@ std::optional<float> SkeletonStore::get(int level, const LatticeCoord& c) const 
 void SkeletonStore::set(int level, const LatticeCoord& c, float weight) {
     checkRange(c);
     LevelBricks& L = mImpl->levels[checkedIndex(level)];
-    if (mWriteLog) mWriteLog->push_back(SkeletonWrite{level, c, weight});
+    ++mImpl->writes;
+    if (mWriteLog) mWriteLog->push_back(SkeletonWrite{level, c, weight, get(level, c)});
     const int32_t bx = brickOf(c.x), by = brickOf(c.y), bz = brickOf(c.z);
     const auto [slot, created] =
         L.index.tryEmplace(brickKey(bx, by, bz), uint32_t(L.bricks.size()));
@@ -120,7 +125,8 @@ void SkeletonStore::set(int level, const LatticeCoord& c, float weight) {
 
 void SkeletonStore::erase(int level, const LatticeCoord& c) {
     LevelBricks& L = mImpl->levels[checkedIndex(level)];
-    if (mWriteLog) mWriteLog->push_back(SkeletonWrite{level, c, std::nullopt});
+    ++mImpl->writes;
+    if (mWriteLog) mWriteLog->push_back(SkeletonWrite{level, c, std::nullopt, get(level, c)});
     const int64_t slot = L.find(brickOf(c.x), brickOf(c.y), brickOf(c.z));
     if (slot < 0) return;
     Brick& b = L.bricks[size_t(slot)];

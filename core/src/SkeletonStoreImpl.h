@@ -110,6 +110,7 @@ struct SkeletonStore::Impl {
     std::array<LevelBricks, kLevelCount> levels;
     /// Bumped whenever a brick is created, so readers can cache "no brick here" safely.
     uint64_t generation = 0;
+    uint64_t writes = 0;  // set() and erase() calls (SkeletonStore::writeCount)
 };
 
 }  // namespace vsculpt::core

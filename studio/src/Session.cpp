@@ -21,6 +21,9 @@ Session::Session(const SculptConfig& cfg) : Session(cfg, true) {
 Session::Session(const SculptConfig& cfg, bool)
     : mConfig(cfg), mSculpture(std::make_unique<Sculpture>(cfg)) {
     mSize = mConfig.zoom.allowedSizes[0].front();
+    // Every write goes to the mesher: the asynchronous one replays them on its replica, the
+    // synchronous view keeps its grid sums with them (Polygonizer::noteWrites).
+    mSculpture->store().logWritesTo(&mWrites);
 }
 
 Session::~Session() {
@@ -123,8 +126,8 @@ void Session::rebuildView() {
         mMesher->setRegion(mRegion);
         return;
     }
-    mView =
-        std::make_unique<Polygonizer>(*mSculpture, mRegion, mConfig.polygonizer.rootTolerance);
+    mWrites.clear();  // the new view starts from the sculpture as it is
+    mView = std::make_unique<Polygonizer>(*mSculpture, mRegion, mConfig.polygonizer.rootTolerance);
     mView->rebuildAll();
     ++mViewChanges;
 }
@@ -135,6 +138,7 @@ void Session::meshChanged(std::span<const Vec3> points, double radius) {
                       radius);
         return;
     }
+    mView->noteWrites(std::exchange(mWrites, {}));
     mView->update(points, radius);
     ++mViewChanges;
 }
@@ -144,6 +148,7 @@ void Session::meshChanged(const Aabb& box) {
         mMesher->post(std::exchange(mWrites, {}), box);
         return;
     }
+    mView->noteWrites(std::exchange(mWrites, {}));
     mView->update(box);
     ++mViewChanges;
 }
@@ -151,15 +156,13 @@ void Session::meshChanged(const Aabb& box) {
 void Session::setAsyncMeshing(bool on) {
     if (on == asyncMeshing()) return;
     if (on) {
-        mMesher = std::make_unique<AsyncMesher>(*mSculpture, mRegion,
-                                                mConfig.polygonizer.rootTolerance);
+        mMesher =
+            std::make_unique<AsyncMesher>(*mSculpture, mRegion, mConfig.polygonizer.rootTolerance);
         mWrites.clear();
-        mSculpture->store().logWritesTo(&mWrites);
         mView.reset();
         mSyncPublished.reset();
     } else {
         mMesher.reset();
-        mSculpture->store().logWritesTo(nullptr);
         mWrites.clear();
         rebuildView();
     }

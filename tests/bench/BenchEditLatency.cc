@@ -249,7 +249,12 @@ void BM_EditLatency(benchmark::State& state) {
     Polygonizer poly(s, st.region, s.config().polygonizer.rootTolerance);
     poly.rebuildAll();
     std::vector<double> first, rest, placeMs, updateMs, publishMs;
-    size_t evaluations = 0, blocks = 0, chunks = 0;
+    size_t evaluations = 0, blocks = 0, chunks = 0, terms = 0;
+    // The writes of each sample go to the polygonizer as the asynchronous mesher passes them
+    // (Polygonizer::noteWrites): its kept grid sums follow the edit.
+    std::vector<SkeletonWrite> writes;
+    const bool noteWrites = !std::getenv("VSCULPT_BENCH_NO_SUMS");  // TEMP A/B
+    s.store().logWritesTo(&writes);
     for (auto _ : state) {
         for (const auto& path : st.paths) {
             std::vector<SkeletonChange> changes;
@@ -259,6 +264,8 @@ void BM_EditLatency(benchmark::State& state) {
                     const auto t0 = Clock::now();
                     const EditResult r = stroke.addSample(path[i]);
                     const auto t1 = Clock::now();
+                    if (noteWrites) terms += poly.noteWrites(writes);
+                    writes.clear();
                     const PolygonizeStats ps = poly.update(r.changedPoints, r.supportMm);
                     const auto t2 = Clock::now();
                     size_t uploaded = 0;
@@ -277,10 +284,14 @@ void BM_EditLatency(benchmark::State& state) {
                 changes = stroke.takeChanges();
             }
             state.PauseTiming();
-            poly.update(revertChanges(s, changes));
+            const Aabb reverted = revertChanges(s, changes);
+            if (noteWrites) poly.noteWrites(writes);
+            writes.clear();
+            poly.update(reverted);
             state.ResumeTiming();
         }
     }
+    s.store().logWritesTo(nullptr);
     reportPercentiles(state, "", rest);
     state.counters["first_mean_ms"] = std::accumulate(first.begin(), first.end(), 0.0) /
                                       double(std::max<size_t>(1, first.size()));
@@ -291,6 +302,7 @@ void BM_EditLatency(benchmark::State& state) {
     const double samples = double(first.size() + rest.size());
     state.counters["samples"] = samples;
     state.counters["evals_per_sample"] = double(evaluations) / samples;
+    state.counters["block_splats_per_sample"] = double(terms) / samples;
     state.counters["blocks_per_sample"] = double(blocks) / samples;
     state.counters["bounds_pass"] = boundsPassFraction(s, st, level);
     state.counters["chunks_per_sample"] = double(chunks) / samples;
@@ -765,8 +777,8 @@ void BM_Memory(benchmark::State& state) {
                                                  surfaceAbove(probe, kPileCenter.x, kPileCenter.y));
             std::unique_ptr<Polygonizer> poly;
             const size_t bytes = heapBytesKept([&] {
-                poly = std::make_unique<Polygonizer>(s, region,
-                                                     s.config().polygonizer.rootTolerance);
+                poly =
+                    std::make_unique<Polygonizer>(s, region, s.config().polygonizer.rootTolerance);
                 poly->rebuildAll(false);
             });
             (zoom == 1 ? poly1 : poly3) = bytes;

@@ -13,6 +13,8 @@
 
 #include "vsculpt/core/Geometry.h"
 
+#include <cmath>
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <vector>
@@ -65,6 +67,29 @@ FieldSample evalFieldBruteForce(const Sculpture& sculpture, const Vec3& objectPo
 
 namespace vsculpt::core {
 
+/// Field sums in fixed point (issue #14): each skeleton's term w F(d / R) is cut to a
+/// multiple of 2^-40 before it is added, so a sum is an exact integer whatever the order of
+/// its terms, and a kept sum plus the terms of the skeletons that changed equals a fresh sum
+/// bit for bit. The cut (under 1e-12 per term, truncation: one instruction, where llround is
+/// a library call) is far below any tolerance of the mesher.
+inline constexpr double kFixedPerUnit = 0x1p40;
+inline int64_t fixedTerm(double term) {
+    return static_cast<int64_t>(term * kFixedPerUnit);
+}
+/// f from a fixed-point sum of terms.
+inline double fixedToField(int64_t sum, double iso) {
+    return double(sum) / kFixedPerUnit - iso;
+}
+
+/// Adds `sign` times the fixed-point term of one skeleton (centre c, weight w, support radius
+/// R given as 1/R and R^2) to every vertex of a regular grid within its support, with the
+/// grid laid out as in LocalField::gridValues (at most 16 vertices per axis). Every caller
+/// computes a term with these same operations, so adding and later subtracting a skeleton's
+/// terms leaves exactly nothing behind.
+void splatFixed(const HermiteFalloff& falloff, const Vec3& c, double w, double invR, double r2,
+                std::span<const double> xs, std::span<const double> ys, std::span<const double> zs,
+                int64_t* out, int64_t sign);
+
 /// Conservative range of f over a box.
 struct FieldBounds {
     double min = 0, max = 0;
@@ -93,6 +118,10 @@ class LocalField {
     /// with the same operations. @pre xs, ys, zs ascending and evenly spaced (a block's grid).
     void gridValues(std::span<const double> xs, std::span<const double> ys,
                     std::span<const double> zs, double* out) const;
+    /// The same grid's fixed-point sums of terms (splatFixed), without the iso offset:
+    /// f = fixedToField(out[...], iso).
+    void gridSums(std::span<const double> xs, std::span<const double> ys,
+                  std::span<const double> zs, int64_t* out) const;
 
   private:
     const HermiteFalloff* mFalloff;

@@ -7,8 +7,8 @@
 /// Each grid cube is split into the 6 Kuhn tetrahedra around its (0,0,0)-(1,1,1) diagonal,
 /// the same way in every cube, so neighbouring cubes share faces exactly. Field signs at the
 /// tetrahedron corners (inside: f > 0) give 0, 1 or 2 triangles; edge crossings are found by
-/// Illinois steps until the vertex lies within a tolerance of the surface; triangles face outward; vertices are shared per grid edge and
-/// carry normals from the field gradient.
+/// Illinois steps until the vertex lies within a tolerance of the surface; triangles face outward;
+/// vertices are shared per grid edge and carry normals from the field gradient.
 ///
 /// Work is organised in blocks of 4^3 cells (the unit of rebuilding) and chunks of 8^3
 /// cells (the unit of publishing). Blocks the field provably cannot cross (LocalField
@@ -18,11 +18,13 @@
 #pragma once
 
 #include "vsculpt/core/Mesh.h"
+#include "vsculpt/core/SkeletonStore.h"
 #include "vsculpt/core/Zoom.h"
 
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <unordered_map>
@@ -78,6 +80,16 @@ class Polygonizer {
     PolygonizeStats rebuildBlocks(const BlockList& blocks, bool threaded = true,
                                   const std::atomic<bool>* cancel = nullptr);
 
+    /// Tells the polygonizer the skeleton writes (SkeletonStore::logWritesTo) that took the
+    /// sculpture to its current state since the last call. Each block that was evaluated
+    /// keeps its grid values as fixed-point sums of terms (EvalField.h); the writes' old terms
+    /// are subtracted and new ones added there, so rebuilding a block after an edit costs no
+    /// grid evaluations, whatever the number of skeletons piled up on it. Without this call
+    /// (or when the writes do not account for every write the store saw) the kept sums are
+    /// dropped at the next rebuild and evaluated afresh: same mesh, more work.
+    /// Returns the number of terms applied.
+    size_t noteWrites(std::span<const SkeletonWrite> writes);
+
     const GridRegion& region() const { return mRegion; }
 
     /// Validation mode (`vsculpt play --check`): polygonizes everything afresh and compares
@@ -130,6 +142,14 @@ class Polygonizer {
     int mBlocksPerAxis;
     std::vector<BlockMesh> mBlocks;
     std::vector<uint64_t> mChunkVersions;
+    // Each evaluated block's (kBlockCells + 1)^3 grid values as fixed-point sums of terms,
+    // current for the store's write count mSumsAt (noteWrites). Absent for blocks never
+    // evaluated. Written during a rebuild only by the thread building that block.
+    using BlockSums =
+        std::array<int64_t, (kBlockCells + 1) * (kBlockCells + 1) * (kBlockCells + 1)>;
+    mutable std::vector<std::unique_ptr<BlockSums>> mSums;
+    uint64_t mSumsAt = 0;
+    void dropSums();
 };
 
 }  // namespace vsculpt::core

@@ -33,10 +33,13 @@ struct SkeletonEntry {
 
 /// One write to a store: a skeleton placed or overwritten (weight), or a vertex emptied
 /// (no weight). Replaying a store's writes in order on a clone gives the same store.
+/// `before` is the vertex's state the write replaced, so a reader can apply the write's
+/// difference to sums it keeps (Polygonizer::noteWrites).
 struct SkeletonWrite {
     int level = 0;
     LatticeCoord coord;
     std::optional<float> weight;
+    std::optional<float> before;
 };
 
 class SkeletonStore {
@@ -64,6 +67,10 @@ class SkeletonStore {
     void logWritesTo(std::vector<SkeletonWrite>* log) { mWriteLog = log; }
     /// Replays writes in order (set or erase).
     void apply(std::span<const SkeletonWrite> writes);
+    /// How many set() and erase() calls this store has seen (a clone starts from its
+    /// original's count): a reader that was told of every write since count c is current
+    /// exactly when writeCount() is c plus the writes it was told of.
+    uint64_t writeCount() const;
 
     /// Packs storage, returning the space growth left behind (also done automatically).
     void compact();

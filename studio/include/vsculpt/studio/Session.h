@@ -172,7 +172,7 @@ class Session {
     core::GridRegion mRegion;
     std::unique_ptr<core::Polygonizer> mView;    // without async meshing
     std::unique_ptr<core::AsyncMesher> mMesher;  // with it
-    std::vector<core::SkeletonWrite> mWrites;    // async: the writes not yet posted
+    std::vector<core::SkeletonWrite> mWrites;    // writes not yet given to the mesher or view
     uint64_t mViewChanges = 0;                   // sync: view() updates so far
     mutable std::shared_ptr<const core::MeshChunks> mSyncPublished;
     mutable uint64_t mSyncPublishedAt = ~uint64_t(0);

@@ -66,6 +66,22 @@ constexpr double kFitShareWidth = 2.5;
 // thin fold of clay where 2 of its 400 000 rays lost the front/back alternation (float
 // precision at a 0.2 um wedge); at 2.5 and 2 none do, and depths are the same.
 constexpr double kFitReachOverRadius = 2.5;
+// A carve's fit reaches further: the deepest groove bottom lies 1.4 radii below the
+// surface, but inside undulating clay, where the field flattens, the first-order reading puts
+// it up to about three times deeper (a size-6 groove at 140 % on the slab of strokes: 0.89
+// of its depth at 2.5, 0.93 from 4). A carve never raises the field (the blob and the fold
+// above were adds'), and tunnels through the initial sphere keep the tool's radius either
+// way (mean radius within 2.5 %).
+constexpr double kCarveFitReachOverRadius = 4.0;
+// A carve's fit also holds the old surface where the tool does not reach it, within this many
+// tool radii of the tool's extreme point: a shallow groove then spills less past where the
+// tool leaves undulating clay (with the carve's two-sided fit, sizes 1-5 at 20 %: 1.46 -> 1.42
+// at most, size 1 1.22 -> 1.16). Such a point beyond 2 radii + margin of the vertex is dropped,
+// so the fit's reach stays the same.
+constexpr double kKeepSurfaceReach = 1.0;
+// A vertex's depth below the old surface is read from its control point when that lies
+// within this many tool radii of the surface, and nearer it than the vertex.
+constexpr double kDepthFromControlReach = 1.0;
 
 using Stencil = std::map<std::array<int, 3>, double>;
 
@@ -107,14 +123,6 @@ Stencil convolve(const Stencil& a, const Stencil& b) {
         for (const auto& [ob, wb] : b)
             c[{oa[0] + ob[0], oa[1] + ob[1], oa[2] + ob[2]}] += wa * wb;
     return c;
-}
-
-// Closest point to v on the segment a-b.
-Vec3 closestOnSegment(const Vec3& v, const Vec3& a, const Vec3& b) {
-    const Vec3 ab = b - a;
-    const double len2 = glm::dot(ab, ab);
-    if (len2 <= 0) return a;
-    return a + ab * std::clamp(glm::dot(v - a, ab) / len2, 0.0, 1.0);
 }
 }  // namespace
 
@@ -327,35 +335,39 @@ EditResult StrokeBuilder::addSample(const Vec3& p) {
                                                                  : addSampleOnTool(a, p);
 }
 
-double StrokeBuilder::fitCorrection(const LatticeCoord& v, const Target& t) {
-    // Closed loop on the vertex's control point q, where the new surface must pass: the base
-    // weights (the targets deconvolved and clamped) give some change of the field there; the
-    // surface needs the change that brings the pre-stroke field at q to c. Between vertices,
-    // on narrow grooves and caps, the base falls short (the lattice spreads them). The missing
-    // change is spread over the vertices around q as a correction of their targets, each
-    // vertex taking its share from its own control point and the normalisation assuming its
-    // neighbours' control points miss the same (their shares add up at q through the
-    // transfer H, which predicts the field between vertices). Everything is a function of the
-    // final targets, so the result does not depend on sample spacing. One-sided: a fit only
-    // deepens a carve or raises an add, never takes back what the targets give (taking back
-    // left gaps at the base of spines that start inside clay).
-    if (!t.control) return 0;
+double StrokeBuilder::fitCorrection(const Target& t) {
+    // Closed loop on the vertex's aim point, where the new surface must pass: the base weights
+    // (the targets deconvolved and clamped) give some change of the field there; the surface
+    // needs the change that brings the pre-stroke field there to c (the tool's extreme point
+    // inside the material) or keeps it at c (the old surface next to a carve that does not
+    // reach it). Between vertices, on narrow grooves and caps, the base falls short, and
+    // where the tool grazes the surface it spills past the groove's end (the lattice spreads
+    // both). The missing change is spread over the vertices around the aim as a correction of
+    // their targets, each vertex taking its share from its own aim point and the
+    // normalisation assuming its neighbours' aims miss the same (their shares add up there
+    // through the transfer H, which predicts the field between vertices). Everything is a
+    // function of the final targets, so the result does not depend on sample spacing. An add
+    // is one-sided: its fit only raises, never takes back what the targets give (taking back
+    // left gaps at the base of spines that start inside clay); a carve's fit also takes back,
+    // the weights being clamped so that it never raises the field.
+    if (!t.aim) return 0;
     const ToolLevel& tl = mSculpture.levels().level(mLevel);
     const double h = tl.spacingMm;
     const SweptTransfer& H = *mTransfer;
     const HermiteFalloff& F = mSculpture.levels().falloff();
-    const double need = mSculpture.levels().iso() - t.controlPhi;
-    if (mOp == ToolOp::Add ? need <= 0 : need >= 0) return 0;  // q is on the tool's side already
-    // Only near the old surface (to first order within kFitReachOverRadius tool radii of q):
-    // far from it (a stroke in the tail of other clay, a tunnel deep in material) the targets
-    // alone give the tool's size, and a fit there, aimed at a point at the edge of the swept
-    // volume (the tip of a stroke's end cap), raised a whole blob around it (a level-6 column
-    // above the snowman's head came out 1.3 times the tool's radius at its end).
-    if (std::abs(need) > t.controlGrad * kFitReachOverRadius * 0.5 * tl.diameterMm) return 0;
-    auto share = [&](const Target& tu, const Vec3& u) {
-        return std::max(0.0, H((*tu.control / h - u) / kFitShareWidth));
-    };
-    const Vec3 q = *t.control / h;  // lattice units
+    const double need = t.need;
+    const bool add = mOp == ToolOp::Add;
+    if (add && need <= 0) return 0;  // the tool's top is inside the material already
+    // Only near the old surface (to first order within kFitReachOverRadius tool radii of the
+    // aim, kCarveFitReachOverRadius for a carve): far from it (a stroke in the tail of other clay,
+    // a tunnel deep in material) the targets alone give the tool's size, and a fit there, aimed at
+    // a point at the edge of the swept volume (the tip of a stroke's end cap), raised a whole blob
+    // around it (a level-6 column above the snowman's head came out 1.3 times the tool's radius at
+    // its end).
+    if (std::abs(need) > t.controlGrad * (add ? kFitReachOverRadius : kCarveFitReachOverRadius) *
+                             0.5 * tl.diameterMm)
+        return 0;
+    const Vec3 q = *t.aim / h;  // lattice units
     double predicted = 0, norm = 0;
     const double r = std::max(SweptTransfer::kReach, tl.supportMm / h);
     for (int x = int(std::ceil(q.x - r)); x <= int(std::floor(q.x + r)); ++x)
@@ -363,18 +375,19 @@ double StrokeBuilder::fitCorrection(const LatticeCoord& v, const Target& t) {
             for (int z = int(std::ceil(q.z - r)); z <= int(std::floor(q.z + r)); ++z) {
                 const Vec3 u(x, y, z);
                 const Vec3 d = q - u;
-                if (glm::dot(d, d) >= r * r) continue;
+                const double d2 = glm::dot(d, d);
+                if (d2 >= r * r) continue;
                 const auto it = mTargets.find(LatticeCoord{x, y, z});
                 if (it == mTargets.end()) continue;
-                const double dist = std::sqrt(glm::dot(d, d)) * h;
+                const double dist = std::sqrt(d2) * h;
                 if (dist < tl.supportMm)
                     predicted += it->second.base * F.value(dist / tl.supportMm);
-                if (it->second.control) norm += share(it->second, u) * H(d);
+                if (it->second.share > 0) norm += it->second.share * H(d);
             }
     if (norm <= 1e-9) return 0;
-    if (mOp == ToolOp::Add ? need <= predicted : need >= predicted) return 0;
-    const double f = t.change + (need - predicted) * share(t, Vec3(v.x, v.y, v.z)) / norm;
-    return (mOp == ToolOp::Add ? std::max(f, 0.0) : std::min(f, 0.0)) - t.change;
+    if (add && need <= predicted) return 0;
+    const double f = t.change + (need - predicted) * t.share / norm;
+    return add ? std::max(f, 0.0) - t.change : f - t.change;
 }
 
 EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
@@ -407,49 +420,109 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
     // Near existing skeletons, changes that would move the surface by less than kDeadBand
     // lattice spacings are not made, so replaying a stroke places nothing new (in empty space
     // the fresh field is kept whole).
-    auto targetChange = [&](const Target& t) {
+    auto targetChange = [&](const Target& t, const Vec3& pos) {
         const double s = (iso - freshField(t.lateral)) / slopeAtTool;
+        // The rule reads the pre-stroke field at the vertex as a depth below the old surface,
+        // (phi - c) / G. That first-order reading is poor a tool radius or more inside
+        // undulating clay, where the field flattens (on the slab of strokes it read vertices a
+        // size-5 tool radius under the surface up to 1.7 mm too deep, and a 20 % groove came
+        // out up to 0.7 mm too deep over them). Where the control point q lies within a tool
+        // radius of the surface and nearer it than the vertex, the depth is read at q,
+        // (phi(q) - c) / |grad phi(q)|, and carried to the vertex along the normal.
+        double phi = t.phi;
+        if (t.control && t.controlGrad > 0 && t.grad > 0) {
+            const double dv = (t.phi - iso) / t.grad;
+            const double dq = (t.controlPhi - iso) / t.controlGrad;
+            if (std::abs(dq) < std::abs(dv) && std::abs(dq) <= kDepthFromControlReach * radius)
+                phi = iso + t.grad * (dq + glm::dot(pos - *t.control, t.gradient) / t.grad);
+        }
         if (mOp == ToolOp::Add) {
             const double slope = std::max(t.grad, (iso - t.phi) / sMax);
-            const double c = std::max(0.0, iso - slope * s - t.phi);
+            const double c = std::max(0.0, iso - slope * s - (slope == t.grad ? phi : t.phi));
             return std::abs(t.phi) > 1e-9 && c < kDeadBand * slope * tl.spacingMm ? 0.0 : c;
         }
         const double slope = std::max(t.grad, (t.phi - iso) / sMax);
-        const double c = std::min(0.0, iso + slope * s - t.phi);
+        const double c = std::min(0.0, iso + slope * s - (slope == t.grad ? phi : t.phi));
         return -c < kDeadBand * slope * tl.spacingMm ? 0.0 : c;
     };
 
     // The path's closest point to a vertex: on either segment with a mirror plane (on a tie the
     // midpoint, so a vertex on the plane stays symmetric).
     const Vec3 am = mirrored(a, mMirror), pm = mirrored(p, mMirror);
-    auto footOf = [&](const Vec3& x) {
-        const Vec3 f = closestOnSegment(x, a, p);
+    // The path's closest point to x and the direction from it to the swept tool's extreme
+    // point along the unit vector n: across the path where x lies beside a segment (the swept
+    // tool is a tube there), n itself beyond a segment's ends (a sphere). On either segment
+    // with a mirror plane (on a tie the midpoints, so a vertex on the plane stays symmetric).
+    auto onSegment = [&](const Vec3& x, const Vec3& n, const Vec3& s0,
+                         const Vec3& s1) -> std::pair<Vec3, Vec3> {
+        const Vec3 ab = s1 - s0;
+        const double len2 = glm::dot(ab, ab);
+        if (len2 <= 0) return {s0, n};
+        const double tau = glm::dot(x - s0, ab) / len2;
+        const Vec3 foot = s0 + ab * std::clamp(tau, 0.0, 1.0);
+        if (tau < 0 || tau > 1) return {foot, n};
+        const Vec3 t = ab / std::sqrt(len2);
+        const Vec3 across = n - glm::dot(n, t) * t;
+        const double l = glm::length(across);
+        return {foot, l > 1e-6 ? across / l : n};
+    };
+    auto extremeOf = [&](const Vec3& x, const Vec3& n) -> std::pair<Vec3, Vec3> {
+        const auto f = onSegment(x, n, a, p);
         if (mMirror == MirrorAxis::None) return f;
-        const Vec3 g = closestOnSegment(x, am, pm);
-        const double df = glm::length(x - f), dg = glm::length(x - g);
-        if (std::abs(df - dg) <= 1e-9 * (df + dg + tl.spacingMm)) return 0.5 * (f + g);
+        const auto g = onSegment(x, n, am, pm);
+        const double df = glm::length(x - f.first), dg = glm::length(x - g.first);
+        if (std::abs(df - dg) <= 1e-9 * (df + dg + tl.spacingMm)) {
+            const Vec3 d = f.second + g.second;
+            const double l = glm::length(d);
+            return {0.5 * (f.first + g.first), l > 1e-9 ? d / l : n};
+        }
         return df < dg ? f : g;
     };
-    // The control point: the tool's lowest point (carve) or its top (add) along the
-    // pre-stroke normal at the vertex, the tool centre being the path's closest point to the
-    // vertex. The new surface must pass through it wherever it lies on the old material's far
-    // side. None in empty space, where there is no normal (and where the targets alone give
-    // the tool's size: the dab and ripple numbers are those of the targets).
-    auto controlOf = [&](const Target& t, const Vec3& foot) -> std::optional<Vec3> {
+    // The control point: the swept tool's extreme point into the material (carve) or out of
+    // it (add) along the pre-stroke normal at the vertex, the tool centre being the path's
+    // closest point to the vertex. Beside a segment that is the tube's extreme point, across
+    // the path: the sphere's own, where the surface slopes along the stroke, lies inside the
+    // swept tube (on the slab's edge a size-7 groove at 100 % came out 0.71 of its depth). The
+    // new surface must pass through it wherever it lies on the old material's far side. None
+    // in empty space, where there is no normal (and where the targets alone give the tool's
+    // size: the dab and ripple numbers are those of the targets).
+    auto controlOf = [&](const Target& t, const Vec3& pos) -> std::optional<Vec3> {
         // (A field that changes by less than 1e-4 over a tool radius is empty space: what is
         // left of the stroke's own subtracted deltas is rounding, with no direction.)
         if (t.grad * radius < 1e-4) return std::nullopt;
         mAnyControl = true;
         // The gradient points into the material.
-        return foot + t.gradient * ((mOp == ToolOp::Add ? -radius : radius) / t.grad);
+        const Vec3 n = t.gradient * ((mOp == ToolOp::Add ? -1.0 : 1.0) / t.grad);
+        const auto [foot, d] = extremeOf(pos, n);
+        return foot + d * radius;
     };
 
     auto setControl = [&](Target& t, const Vec3& pos) {
-        t.control = controlOf(t, footOf(pos));
+        t.control = controlOf(t, pos);
+        t.aim.reset();
+        t.share = 0;
         if (!t.control) return;
         const FieldSample qs = preStrokeSampleAt(*t.control);
         t.controlPhi = qs.value;
         t.controlGrad = glm::length(qs.gradient);
+        t.aim = t.control;
+        t.need = iso - t.controlPhi;
+        if (mOp == ToolOp::Carve && t.need > 0) {
+            // The tool does not reach the old surface along this normal: the old surface
+            // point beyond q (to first order) must stay where it is, so that the groove does
+            // not spill past where the tool leaves the clay.
+            if (t.controlGrad <= 1e-12 || t.need / t.controlGrad > kKeepSurfaceReach * radius) {
+                t.aim.reset();
+                return;
+            }
+            t.aim = *t.control + qs.gradient * (t.need / (t.controlGrad * t.controlGrad));
+            t.need = 0;
+            if (glm::length(*t.aim - pos) > 2 * radius + margin) {
+                t.aim.reset();
+                return;
+            }
+        }
+        t.share = std::max(0.0, (*mTransfer)((*t.aim - pos) / (tl.spacingMm * kFitShareWidth)));
     };
 
     std::vector<LatticeCoord> touched;  // new, or their closest approach changed
@@ -463,13 +536,13 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
             t.gradient = fs.gradient;
             t.grad = glm::length(fs.gradient);
             t.lateral = sv.lateralMm;
-            t.change = targetChange(t);
             setControl(t, pos);
+            t.change = targetChange(t, pos);
             touched.push_back(sv.coord);
         } else if (sv.lateralMm < t.lateral) {
             t.lateral = sv.lateralMm;
-            t.change = targetChange(t);
             setControl(t, pos);
+            t.change = targetChange(t, pos);
             touched.push_back(sv.coord);
         }
     }
@@ -519,16 +592,19 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
     // point lies within 2 radius + margin of the vertex. A stroke in empty space has no
     // control points and no corrections.
     if (!touched.empty() && mAnyControl) {
+        // The aim lies within 2 radius + margin of the vertex (the tool's extreme point, or
+        // the old surface next to a carve, dropped beyond).
+        const double aimReach = 2 * radius + margin;
         const double reach = (radius + margin) +
                              std::max(mDeconvolveReach * tl.spacingMm + tl.supportMm,
                                       SweptTransfer::kReach * tl.spacingMm) +
-                             (2 * radius + margin);
+                             aimReach;
         CoordSet fitSet;
         for (const SweptVertex& sv : sweptWithMirror(tl.spacingMm, a, p, reach, mMirror))
             if (mTargets.count(sv.coord)) fitSet.emplace(sv.coord, 0);
         for (const LatticeCoord& u : sorted(fitSet)) {
             Target& t = mTargets.at(u);
-            const double c = fitCorrection(u, t);
+            const double c = fitCorrection(t);
             if (c == t.correction) continue;
             t.correction = c;
             for (const Tap& tap : mDeconvolve) {

@@ -378,14 +378,41 @@ TEST(CarveDepth, PrintCosts) {
                         s.store().vertexCount(), ms / double(path.size()));
         }
     }
+    // Along a surface, where the closed-loop fit acts: a great-circle stroke on the initial
+    // sphere with the tool's centre on the surface, samples a quarter of the tool apart.
+    std::printf("\nplacement time per sample along the sphere's surface (100 %% penetration)\n");
+    for (int k = 1; k <= 7; ++k) {
+        for (ToolOp op : {ToolOp::Add, ToolOp::Carve}) {
+            SculptConfig cfg = emptyConfig(PlacementMode::Swept);
+            cfg.sphereRadiusMm = kSphereRadius;
+            Sculpture s(cfg);
+            const double rho = 0.5 * s.levels().level(k).diameterMm;
+            const Direction dir = directions()[2];
+            const double halfAngle = std::min(10 * rho / kSphereRadius, 1.4);
+            const int n = int(std::ceil(2 * halfAngle * kSphereRadius / (0.25 * rho)));
+            std::vector<Vec3> path;
+            for (int i = 0; i <= n; ++i) {
+                const double th = -halfAngle + 2 * halfAngle * i / n;
+                path.push_back((std::cos(th) * dir.u0 + std::sin(th) * dir.t0) * kSphereRadius);
+            }
+            const auto t0 = std::chrono::steady_clock::now();
+            applyStroke(s, op, k, path);
+            const double ms =
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                    .count();
+            std::printf("size %d %-5s: %7.3f ms per sample\n", k, toString(op),
+                        ms / double(path.size()));
+        }
+    }
 }
 
 // ---------------------------------------------------------------- assertions
 //
 // The bounds are what the swept-mode rule achieves at the default lattice (sigma = 1/2), with
 // the closed-loop fit: the 10 % on the sphere for every size, penetration and
-// direction, and on clay of strokes for sizes 1-5 from 60 % (carve) and for every add;
-// shallow carves on clay and the two largest tools there are not held to it
+// direction, and on clay of strokes for carves with sizes 1-5 from 60 % and size 6 from 100 %,
+// and for every add but size 7 at 140 %; shallow carves on clay, and the two largest tools
+// there where their lattices are coarser than the clay's undulation, are not held to it
 // (docs/placement.md has the tables).
 
 TEST(CarveDepth, GroovesAndBumpsOnTheSphereFollowTheTool) {
@@ -396,7 +423,7 @@ TEST(CarveDepth, GroovesAndBumpsOnTheSphereFollowTheTool) {
                 EXPECT_GE(carve.min, 0.9) << "carve size " << k << " pen " << pen << " " << d.name;
                 EXPECT_LE(carve.max, 1.1) << "carve size " << k << " pen " << pen << " " << d.name;
                 // A groove, not a row of pits: the depth varies little along the stroke
-                // (measured: 0.12 at 20 %, 0.06 from 60 % on).
+                // (measured: 0.13 at 20 %, 0.06 from 60 % on).
                 EXPECT_LE(carve.max - carve.min, pen >= 0.6 ? 0.1 : 0.15)
                     << "carve size " << k << " pen " << pen << " " << d.name;
                 const Stats add = sphereStroke(ToolOp::Add, k, pen, d);
@@ -412,15 +439,27 @@ TEST(CarveDepth, GroovesAndBumpsOnTheSphereFollowTheTool) {
 TEST(CarveDepth, GroovesAndBumpsOnClayOfStrokesFollowTheTool) {
     const auto clay = makeClay();
     for (double angle : {90.0, 30.0}) {
-        for (int k = 1; k <= 5; ++k) {
+        for (int k = 1; k <= 7; ++k) {
+            // Measured 0.95..1.08 for sizes 1-5 from 60 % on, 0.93..1.04 for size 6 from 100 %
+            // on. Size 6 at 60 % (0.84..1.09) and size 7 (0.76..1.18) are not held to it: their
+            // lattices are coarser than the slab's undulation (docs/placement.md).
             for (double pen : {0.6, 1.0, 1.4}) {
-                // Measured 0.93..1.12 at 60 %, 0.95..1.04 from 100 % on.
+                if (k > 6 || (k == 6 && pen < 1.0)) continue;
                 const Stats carve = clayStroke(clay.get(), ToolOp::Carve, k, pen, angle);
                 EXPECT_GE(carve.min, 0.9) << "carve size " << k << " pen " << pen << " " << angle;
-                EXPECT_LE(carve.max, pen >= 1.0 ? 1.1 : 1.15)
-                    << "carve size " << k << " pen " << pen << " " << angle;
+                EXPECT_LE(carve.max, 1.1) << "carve size " << k << " pen " << pen << " " << angle;
             }
+            // Shallow carves are short of the 10 %: where the undulating surface
+            // leaves the tool's bottom the groove spills past its end (measured 0.94..1.16 for
+            // sizes 1-3; 1.25..1.44 at most for sizes 4-7).
+            if (k <= 3) {
+                const Stats carve = clayStroke(clay.get(), ToolOp::Carve, k, 0.2, angle);
+                EXPECT_GE(carve.min, 0.9) << "carve size " << k << " pen 0.2 " << angle;
+                EXPECT_LE(carve.max, 1.2) << "carve size " << k << " pen 0.2 " << angle;
+            }
+            // Measured 0.95..1.06; size 7 at 140 % is 0.84..1.06.
             for (double pen : {0.2, 0.6, 1.0, 1.4}) {
+                if (k == 7 && pen > 1.0) continue;
                 const Stats add = clayStroke(clay.get(), ToolOp::Add, k, pen, angle);
                 EXPECT_GE(add.min, 0.9) << "add size " << k << " pen " << pen << " " << angle;
                 EXPECT_LE(add.max, 1.1) << "add size " << k << " pen " << pen << " " << angle;

@@ -122,18 +122,26 @@ class StrokeBuilder {
         double grad = 0;     // its length
         double lateral = 0;  // closest approach of the path so far, mm
         double change = 0;   // target change of the field at the vertex
-        // The control point: where the tool's lowest (carve) or highest (add) point lies along
-        // the pre-stroke normal, at the path's closest point to this vertex; the new surface
-        // must pass through it. Absent where the vertex sees no old surface.
+        // The control point: the swept tool's extreme point into (carve) or out of (add) the
+        // material along the pre-stroke normal, the tool at the path's closest point to this
+        // vertex; the new surface must pass through it. Absent where the vertex sees no old
+        // surface.
         std::optional<Vec3> control;
         double controlPhi = 0;   // pre-stroke field (without c) there
         double controlGrad = 0;  // and the length of its gradient, per mm
         double base = 0;         // the vertex's weight from the targets alone (clamped)
-        double correction = 0;   // added to the target so the surface meets the control point
+        double correction = 0;   // added to the target so the surface meets the aim points
+        // Where the fit aims: the control point, or for a carve that does not reach the old
+        // surface there, the old surface beyond it; absent where there is none. `need` is the
+        // change of the field the new surface needs there, `share` the vertex's share of a
+        // correction aimed there.
+        std::optional<Vec3> aim;
+        double need = 0;
+        double share = 0;
     };
-    // The correction of a vertex's target that brings the new surface to the control points
+    // The correction of a vertex's target that brings the new surface to the aim points
     // around it (docs/placement.md, closed-loop fit).
-    double fitCorrection(const LatticeCoord& v, const Target& t);
+    double fitCorrection(const Target& t);
     double mDeconvolveReach = 0;  // the longest tap offset, lattice spacings
     bool mAnyControl = false;     // some target of this stroke has a control point
     std::shared_ptr<const SweptTransfer> mTransfer;

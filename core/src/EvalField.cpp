@@ -310,7 +310,7 @@ void LocalField::gridValues(std::span<const double> xs, std::span<const double> 
 
 void splatFixed(const HermiteFalloff& falloff, const Vec3& c, double w, double invR, double r2,
                 std::span<const double> xs, std::span<const double> ys, std::span<const double> zs,
-                int64_t* out, int64_t sign) {
+                FixedSum* out, int sign) {
     const size_t ny = ys.size(), nz = zs.size();
     if (xs.size() > 16 || ny > 16 || nz > 16)
         throw std::invalid_argument("splatFixed: at most 16^3");
@@ -340,18 +340,19 @@ void splatFixed(const HermiteFalloff& falloff, const Vec3& c, double w, double i
         for (size_t j = j0; j < j1; ++j) {
             const double xy = dx2[i] + dy2[j];
             if (xy >= r2) continue;
-            int64_t* row = out + (i * ny + j) * nz;
+            FixedSum* row = out + (i * ny + j) * nz;
             for (size_t k = k0; k < k1; ++k) {
                 const double d2 = xy + dz2[k];
                 if (d2 >= r2) continue;
-                row[k] += sign * fixedTerm(w * falloff.value(std::sqrt(d2) * invR));
+                const FixedSum t = fixedTerm(w * falloff.value(std::sqrt(d2) * invR));
+                row[k] += sign > 0 ? t : -t;
             }
         }
 }
 
 void LocalField::gridSums(std::span<const double> xs, std::span<const double> ys,
-                          std::span<const double> zs, int64_t* out) const {
-    std::fill(out, out + xs.size() * ys.size() * zs.size(), int64_t(0));
+                          std::span<const double> zs, FixedSum* out) const {
+    std::fill(out, out + xs.size() * ys.size() * zs.size(), FixedSum(0));
     for (size_t s = 0; s < mX.size(); ++s)
         splatFixed(*mFalloff, Vec3(mX[s], mY[s], mZ[s]), mW[s], mInvR[s], mR2[s], xs, ys, zs, out,
                    1);
@@ -390,7 +391,7 @@ FieldSample LocalField::sample(const Vec3& p) const {
 }
 
 FieldBounds LocalField::bounds() const {
-    double lo = 0, hi = 0;
+    double lo = 0, hi = 0, magnitude = 0;
     for (size_t i = 0; i < mX.size(); ++i) {
         const Vec3 c(mX[i], mY[i], mZ[i]);
         const Vec3 nearest = glm::clamp(c, mBox.min, mBox.max);
@@ -399,6 +400,7 @@ FieldBounds LocalField::bounds() const {
                        c.z < 0.5 * (mBox.min.z + mBox.max.z) ? mBox.max.z : mBox.min.z);
         const double fNear = mFalloff->value(glm::length(c - nearest) * mInvR[i]);
         const double fFar = mFalloff->value(glm::length(c - far) * mInvR[i]);
+        magnitude += std::abs(mW[i]) * fNear;
         if (mW[i] > 0) {
             lo += mW[i] * fFar;
             hi += mW[i] * fNear;
@@ -407,8 +409,10 @@ FieldBounds LocalField::bounds() const {
             hi += mW[i] * fFar;
         }
     }
-    // Widen by a rounding margin: the bounds decide what the polygonizer may skip.
-    const double margin = 1e-9 * (1 + std::abs(lo) + std::abs(hi));
+    // Widen by a rounding margin: the bounds decide what the polygonizer may skip, and must
+    // hold for f summed in any order (terms of both signs cancel: the margin follows their
+    // magnitudes) and for the polygonizer's fixed-point sums (2^-40 per term).
+    const double margin = 1e-9 * (1 + magnitude) + double(mX.size()) / kFixedPerUnit;
     return FieldBounds{lo - mIso - margin, hi - mIso + margin};
 }
 

@@ -100,7 +100,8 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
             zs[i] = p.z;
         }
         sums = std::make_unique<BlockSums>();
-        field->gridSums(xs, ys, zs, sums->data());
+        field->gridSums(xs, ys, zs, sums->values.data());
+        sums->skeletons = field->skeletonCount();
         evals += V * V * V;
     }
     const double iso = mSculpture.levels().iso();
@@ -109,7 +110,7 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
     for (int i = 0; i < V; ++i)
         for (int j = 0; j < V; ++j)
             for (int k = 0; k < V; ++k) {
-                values[i][j][k] = fixedToField((*sums)[size_t((i * V + j) * V + k)], iso);
+                values[i][j][k] = fixedToField(sums->values[size_t((i * V + j) * V + k)], iso);
                 (values[i][j][k] > 0 ? anyIn : anyOut) = true;
             }
     if (!anyIn || !anyOut) return true;
@@ -255,8 +256,12 @@ size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
     const HermiteFalloff& falloff = levels.falloff();
     const Aabb region = mRegion.box();
     const double blockSize = kBlockCells * mRegion.spacingMm;
-    constexpr int V = kBlockCells + 1;
-    size_t terms = 0;
+    struct Term {
+        Vec3 c;
+        double before, after, invR, r2;
+    };
+    std::vector<Term> terms;
+    std::vector<std::pair<uint32_t, uint32_t>> hits;  // (block, term) pairs with kept sums
     for (const SkeletonWrite& w : writes) {
         const double before = w.before ? double(*w.before) : 0.0;
         const double after = w.weight ? double(*w.weight) : 0.0;
@@ -264,40 +269,75 @@ size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
         const ToolLevel& tl = levels.level(w.level);
         // The centre, 1/R and R^2 exactly as LocalField computes them.
         const double h = tl.spacingMm, R = tl.supportMm;
-        const Vec3 c(w.coord.x * h, w.coord.y * h, w.coord.z * h);
-        const double invR = 1.0 / R, r2 = R * R;
+        const Term t{Vec3(w.coord.x * h, w.coord.y * h, w.coord.z * h), before, after, 1.0 / R,
+                     R * R};
         int lo[3], hi[3];
         bool outside = false;
         for (int a = 0; a < 3; ++a) {
-            lo[a] = std::max(0, int(std::floor((c[a] - R - region.min[a]) / blockSize)) - 1);
+            lo[a] = std::max(0, int(std::floor((t.c[a] - R - region.min[a]) / blockSize)) - 1);
             hi[a] = std::min(mBlocksPerAxis - 1,
-                             int(std::floor((c[a] + R - region.min[a]) / blockSize)) + 1);
+                             int(std::floor((t.c[a] + R - region.min[a]) / blockSize)) + 1);
             outside |= lo[a] > hi[a];
         }
         if (outside) continue;
         for (int bx = lo[0]; bx <= hi[0]; ++bx)
             for (int by = lo[1]; by <= hi[1]; ++by)
                 for (int bz = lo[2]; bz <= hi[2]; ++bz) {
-                    BlockSums* s = mSums[blockIndex(bx, by, bz)].get();
-                    if (!s) continue;
-                    const int64_t gx0 = mRegion.originCell[0] + int64_t(bx) * kBlockCells;
-                    const int64_t gy0 = mRegion.originCell[1] + int64_t(by) * kBlockCells;
-                    const int64_t gz0 = mRegion.originCell[2] + int64_t(bz) * kBlockCells;
-                    double xs[V], ys[V], zs[V];
-                    for (int i = 0; i < V; ++i) {
-                        const Vec3 p = mRegion.vertexPos(gx0 + i, gy0 + i, gz0 + i);
-                        xs[i] = p.x;
-                        ys[i] = p.y;
-                        zs[i] = p.z;
-                    }
-                    if (before != 0)
-                        splatFixed(falloff, c, before, invR, r2, xs, ys, zs, s->data(), -1);
-                    if (after != 0)
-                        splatFixed(falloff, c, after, invR, r2, xs, ys, zs, s->data(), 1);
-                    terms += 2;
+                    const size_t idx = blockIndex(bx, by, bz);
+                    if (mSums[idx]) hits.emplace_back(uint32_t(idx), uint32_t(terms.size()));
                 }
+        terms.push_back(t);
     }
-    return terms;
+    // Per block: its terms, in any order (integer sums). A block that many writes reach is
+    // cheaper to evaluate afresh at its rebuild (one splat per skeleton it gathers) than to
+    // update (two per write): its sums are dropped instead.
+    std::sort(hits.begin(), hits.end());
+    std::vector<std::pair<size_t, size_t>> groups;
+    for (size_t i = 0; i < hits.size();) {
+        size_t j = i;
+        while (j < hits.size() && hits[j].first == hits[i].first)
+            ++j;
+        groups.emplace_back(i, j);
+        i = j;
+    }
+    tbb::combinable<size_t> splats([] { return size_t(0); });
+    tbb::parallel_for(size_t(0), groups.size(), [&](size_t g) {
+        const auto [first, last] = groups[g];
+        const uint32_t idx = hits[first].first;
+        std::unique_ptr<BlockSums>& sums = mSums[idx];
+        if (2 * (last - first) > sums->skeletons) {
+            sums.reset();
+            return;
+        }
+        const int bz = int(idx % size_t(mBlocksPerAxis)),
+                  by = int(idx / size_t(mBlocksPerAxis) % size_t(mBlocksPerAxis)),
+                  bx = int(idx / (size_t(mBlocksPerAxis) * size_t(mBlocksPerAxis)));
+        constexpr int V = kBlockCells + 1;
+        const int64_t gx0 = mRegion.originCell[0] + int64_t(bx) * kBlockCells;
+        const int64_t gy0 = mRegion.originCell[1] + int64_t(by) * kBlockCells;
+        const int64_t gz0 = mRegion.originCell[2] + int64_t(bz) * kBlockCells;
+        double xs[V], ys[V], zs[V];
+        for (int i = 0; i < V; ++i) {
+            const Vec3 p = mRegion.vertexPos(gx0 + i, gy0 + i, gz0 + i);
+            xs[i] = p.x;
+            ys[i] = p.y;
+            zs[i] = p.z;
+        }
+        size_t& n = splats.local();
+        for (size_t h = first; h < last; ++h) {
+            const Term& t = terms[hits[h].second];
+            if (t.before != 0) {
+                splatFixed(falloff, t.c, t.before, t.invR, t.r2, xs, ys, zs, sums->values.data(),
+                           -1);
+                ++n;
+            }
+            if (t.after != 0) {
+                splatFixed(falloff, t.c, t.after, t.invR, t.r2, xs, ys, zs, sums->values.data(), 1);
+                ++n;
+            }
+        }
+    });
+    return splats.combine(std::plus<size_t>());
 }
 
 PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& blocks, bool threaded,

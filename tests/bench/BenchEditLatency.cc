@@ -253,7 +253,9 @@ void BM_EditLatency(benchmark::State& state) {
     // The writes of each sample go to the polygonizer as the asynchronous mesher passes them
     // (Polygonizer::noteWrites): its kept grid sums follow the edit.
     std::vector<SkeletonWrite> writes;
-    const bool noteWrites = !std::getenv("VSCULPT_BENCH_NO_SUMS");  // TEMP A/B
+    // VSCULPT_BENCH_NO_SUMS=1: not told, so every rebuilt block is evaluated afresh (the A/B
+    // in docs/benchmarks.md).
+    const bool noteWrites = !std::getenv("VSCULPT_BENCH_NO_SUMS");
     s.store().logWritesTo(&writes);
     for (auto _ : state) {
         for (const auto& path : st.paths) {

@@ -13,6 +13,7 @@
 
 #include "vsculpt/core/Geometry.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -70,15 +71,19 @@ namespace vsculpt::core {
 /// Field sums in fixed point (issue #14): each skeleton's term w F(d / R) is cut to a
 /// multiple of 2^-40 before it is added, so a sum is an exact integer whatever the order of
 /// its terms, and a kept sum plus the terms of the skeletons that changed equals a fresh sum
-/// bit for bit. The cut (under 1e-12 per term, truncation: one instruction, where llround is
-/// a library call) is far below any tolerance of the mesher.
+/// bit for bit. The cut (under 1e-12 per term, by truncation) is far below any tolerance of
+/// the mesher. 128 bits: weights in clay piled up by many swept strokes reach 1e7 and more
+/// (field values of 1e8 measured), past what 64 bits hold at this resolution.
+__extension__ using FixedSum = __int128;
 inline constexpr double kFixedPerUnit = 0x1p40;
-inline int64_t fixedTerm(double term) {
-    return static_cast<int64_t>(term * kFixedPerUnit);
+inline FixedSum fixedTerm(double term) {
+    const double x = term * kFixedPerUnit;
+    if (std::abs(x) < 0x1p62) return static_cast<int64_t>(x);  // one instruction: the usual case
+    return static_cast<FixedSum>(std::clamp(x, -0x1p120, 0x1p120));
 }
 /// f from a fixed-point sum of terms.
-inline double fixedToField(int64_t sum, double iso) {
-    return double(sum) / kFixedPerUnit - iso;
+inline double fixedToField(FixedSum sum, double iso) {
+    return static_cast<double>(sum) / kFixedPerUnit - iso;
 }
 
 /// Adds `sign` times the fixed-point term of one skeleton (centre c, weight w, support radius
@@ -88,7 +93,7 @@ inline double fixedToField(int64_t sum, double iso) {
 /// terms leaves exactly nothing behind.
 void splatFixed(const HermiteFalloff& falloff, const Vec3& c, double w, double invR, double r2,
                 std::span<const double> xs, std::span<const double> ys, std::span<const double> zs,
-                int64_t* out, int64_t sign);
+                FixedSum* out, int sign);
 
 /// Conservative range of f over a box.
 struct FieldBounds {
@@ -121,7 +126,7 @@ class LocalField {
     /// The same grid's fixed-point sums of terms (splatFixed), without the iso offset:
     /// f = fixedToField(out[...], iso).
     void gridSums(std::span<const double> xs, std::span<const double> ys,
-                  std::span<const double> zs, int64_t* out) const;
+                  std::span<const double> zs, FixedSum* out) const;
 
   private:
     const HermiteFalloff* mFalloff;

@@ -17,6 +17,7 @@
 /// rebuild exactly: every value is computed by the same operations in the same order.
 #pragma once
 
+#include "vsculpt/core/EvalField.h"
 #include "vsculpt/core/Mesh.h"
 #include "vsculpt/core/SkeletonStore.h"
 #include "vsculpt/core/Zoom.h"
@@ -87,7 +88,9 @@ class Polygonizer {
     /// grid evaluations, whatever the number of skeletons piled up on it. Without this call
     /// (or when the writes do not account for every write the store saw) the kept sums are
     /// dropped at the next rebuild and evaluated afresh: same mesh, more work.
-    /// Returns the number of terms applied.
+    /// Returns the number of block updates made (one skeleton's term over one block). A block
+    /// reached by more writes than half the skeletons it gathered drops its sums instead:
+    /// evaluating it afresh costs less.
     size_t noteWrites(std::span<const SkeletonWrite> writes);
 
     const GridRegion& region() const { return mRegion; }
@@ -145,8 +148,10 @@ class Polygonizer {
     // Each evaluated block's (kBlockCells + 1)^3 grid values as fixed-point sums of terms,
     // current for the store's write count mSumsAt (noteWrites). Absent for blocks never
     // evaluated. Written during a rebuild only by the thread building that block.
-    using BlockSums =
-        std::array<int64_t, (kBlockCells + 1) * (kBlockCells + 1) * (kBlockCells + 1)>;
+    struct BlockSums {
+        std::array<FixedSum, (kBlockCells + 1) * (kBlockCells + 1) * (kBlockCells + 1)> values;
+        size_t skeletons = 0;  // gathered when the sums were made: the cost of making them again
+    };
     mutable std::vector<std::unique_ptr<BlockSums>> mSums;
     uint64_t mSumsAt = 0;
     void dropSums();

@@ -238,18 +238,11 @@ double LocalField::value(const Vec3& p) const {
     // Two passes: squared distances for all skeletons (a loop the compiler vectorises), then
     // the falloff only for those in reach, in the same order as FieldProbe.
     const size_t n = mX.size();
-    constexpr size_t kChunk = 64;
-    double r2[kChunk];
+    double r2[kDistanceChunk];
     double sum = 0;
-    for (size_t base = 0; base < n; base += kChunk) {
-        const size_t m = std::min(kChunk, n - base);
-        const double* x = mX.data() + base;
-        const double* y = mY.data() + base;
-        const double* z = mZ.data() + base;
-        for (size_t i = 0; i < m; ++i) {
-            const double dx = p.x - x[i], dy = p.y - y[i], dz = p.z - z[i];
-            r2[i] = dx * dx + dy * dy + dz * dz;
-        }
+    for (size_t base = 0; base < n; base += kDistanceChunk) {
+        const size_t m = std::min(kDistanceChunk, n - base);
+        squaredDistances(p, base, m, r2);
         for (size_t i = 0; i < m; ++i) {
             if (r2[i] >= mR2[base + i]) continue;
             sum += mW[base + i] * mFalloff->value(std::sqrt(r2[i]) * mInvR[base + i]);
@@ -350,6 +343,16 @@ void splatFixed(const HermiteFalloff& falloff, const Vec3& c, double w, double i
         }
 }
 
+void LocalField::squaredDistances(const Vec3& p, size_t base, size_t m, double* out) const {
+    const double* x = mX.data() + base;
+    const double* y = mY.data() + base;
+    const double* z = mZ.data() + base;
+    for (size_t i = 0; i < m; ++i) {
+        const double dx = p.x - x[i], dy = p.y - y[i], dz = p.z - z[i];
+        out[i] = dx * dx + dy * dy + dz * dz;
+    }
+}
+
 void LocalField::gridSums(std::span<const double> xs, std::span<const double> ys,
                           std::span<const double> zs, FixedSum* out) const {
     std::fill(out, out + xs.size() * ys.size() * zs.size(), FixedSum(0));
@@ -364,17 +367,10 @@ FieldSample LocalField::sample(const Vec3& p) const {
     FieldSample out;
     double sum = 0;
     const size_t n = mX.size();
-    constexpr size_t kChunk = 64;
-    double r2s[kChunk];
-    for (size_t base = 0; base < n; base += kChunk) {
-        const size_t m = std::min(kChunk, n - base);
-        const double* x = mX.data() + base;
-        const double* y = mY.data() + base;
-        const double* z = mZ.data() + base;
-        for (size_t i = 0; i < m; ++i) {
-            const double dx = p.x - x[i], dy = p.y - y[i], dz = p.z - z[i];
-            r2s[i] = dx * dx + dy * dy + dz * dz;
-        }
+    double r2s[kDistanceChunk];
+    for (size_t base = 0; base < n; base += kDistanceChunk) {
+        const size_t m = std::min(kDistanceChunk, n - base);
+        squaredDistances(p, base, m, r2s);
         for (size_t q = 0; q < m; ++q) {
             const size_t i = base + q;
             const double r2 = r2s[q];

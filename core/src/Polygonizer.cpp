@@ -93,12 +93,7 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
         // every vertex: piled-up clay has many small skeletons per block), in fixed point so
         // that noteWrites can keep the sums exact afterwards.
         double xs[V], ys[V], zs[V];
-        for (int i = 0; i < V; ++i) {
-            const Vec3 p = mRegion.vertexPos(gx0 + i, gy0 + i, gz0 + i);
-            xs[i] = p.x;
-            ys[i] = p.y;
-            zs[i] = p.z;
-        }
+        blockAxes(bx, by, bz, xs, ys, zs);
         sums = std::make_unique<BlockSums>();
         field->gridSums(xs, ys, zs, sums->values.data());
         sums->skeletons = field->skeletonCount();
@@ -239,6 +234,32 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
     return true;
 }
 
+bool Polygonizer::blockRange(const Aabb& box, std::array<int, 3>& lo,
+                             std::array<int, 3>& hi) const {
+    const Vec3 origin = mRegion.box().min;
+    const double blockSize = kBlockCells * mRegion.spacingMm;
+    bool empty = false;
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = std::max(0, int(std::floor((box.min[a] - origin[a]) / blockSize)) - 1);
+        hi[a] =
+            std::min(mBlocksPerAxis - 1, int(std::floor((box.max[a] - origin[a]) / blockSize)) + 1);
+        empty |= lo[a] > hi[a];
+    }
+    return !empty;
+}
+
+void Polygonizer::blockAxes(int bx, int by, int bz, double* xs, double* ys, double* zs) const {
+    const int64_t gx0 = mRegion.originCell[0] + int64_t(bx) * kBlockCells;
+    const int64_t gy0 = mRegion.originCell[1] + int64_t(by) * kBlockCells;
+    const int64_t gz0 = mRegion.originCell[2] + int64_t(bz) * kBlockCells;
+    for (int i = 0; i <= kBlockCells; ++i) {
+        const Vec3 p = mRegion.vertexPos(gx0 + i, gy0 + i, gz0 + i);
+        xs[i] = p.x;
+        ys[i] = p.y;
+        zs[i] = p.z;
+    }
+}
+
 void Polygonizer::dropSums() {
     for (auto& s : mSums)
         s.reset();
@@ -254,8 +275,6 @@ size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
     mSumsAt = now;
     const ToolLevels& levels = mSculpture.levels();
     const HermiteFalloff& falloff = levels.falloff();
-    const Aabb region = mRegion.box();
-    const double blockSize = kBlockCells * mRegion.spacingMm;
     struct Term {
         Vec3 c;
         double before, after, invR, r2;
@@ -271,15 +290,8 @@ size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
         const double h = tl.spacingMm, R = tl.supportMm;
         const Term t{Vec3(w.coord.x * h, w.coord.y * h, w.coord.z * h), before, after, 1.0 / R,
                      R * R};
-        int lo[3], hi[3];
-        bool outside = false;
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = std::max(0, int(std::floor((t.c[a] - R - region.min[a]) / blockSize)) - 1);
-            hi[a] = std::min(mBlocksPerAxis - 1,
-                             int(std::floor((t.c[a] + R - region.min[a]) / blockSize)) + 1);
-            outside |= lo[a] > hi[a];
-        }
-        if (outside) continue;
+        std::array<int, 3> lo{}, hi{};
+        if (!blockRange(Aabb{t.c - Vec3(R), t.c + Vec3(R)}, lo, hi)) continue;
         for (int bx = lo[0]; bx <= hi[0]; ++bx)
             for (int by = lo[1]; by <= hi[1]; ++by)
                 for (int bz = lo[2]; bz <= hi[2]; ++bz) {
@@ -313,16 +325,8 @@ size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
                   by = int(idx / size_t(mBlocksPerAxis) % size_t(mBlocksPerAxis)),
                   bx = int(idx / (size_t(mBlocksPerAxis) * size_t(mBlocksPerAxis)));
         constexpr int V = kBlockCells + 1;
-        const int64_t gx0 = mRegion.originCell[0] + int64_t(bx) * kBlockCells;
-        const int64_t gy0 = mRegion.originCell[1] + int64_t(by) * kBlockCells;
-        const int64_t gz0 = mRegion.originCell[2] + int64_t(bz) * kBlockCells;
         double xs[V], ys[V], zs[V];
-        for (int i = 0; i < V; ++i) {
-            const Vec3 p = mRegion.vertexPos(gx0 + i, gy0 + i, gz0 + i);
-            xs[i] = p.x;
-            ys[i] = p.y;
-            zs[i] = p.z;
-        }
+        blockAxes(bx, by, bz, xs, ys, zs);
         size_t& n = splats.local();
         for (size_t h = first; h < last; ++h) {
             const Term& t = terms[hits[h].second];
@@ -492,14 +496,9 @@ Polygonizer::BlockList Polygonizer::blocksTouching(const Aabb& changed) const {
     if (changed.empty()) return {};
     const Aabb box = mRegion.box();
     if (!changed.intersects(box)) return {};
-    const double blockSize = kBlockCells * mRegion.spacingMm;
+    // Closed boxes: a block that only touches the changed region is rebuilt too.
     std::array<int, 3> lo{}, hi{};
-    for (int a = 0; a < 3; ++a) {
-        // Closed boxes: a block that only touches the changed region is rebuilt too.
-        lo[a] = std::max(0, int(std::floor((changed.min[a] - box.min[a]) / blockSize)) - 1);
-        hi[a] = std::min(mBlocksPerAxis - 1,
-                         int(std::floor((changed.max[a] - box.min[a]) / blockSize)) + 1);
-    }
+    blockRange(changed, lo, hi);
     std::vector<std::array<int, 3>> blocks;
     for (int x = lo[0]; x <= hi[0]; ++x)
         for (int y = lo[1]; y <= hi[1]; ++y)
@@ -510,21 +509,12 @@ Polygonizer::BlockList Polygonizer::blocksTouching(const Aabb& changed) const {
 
 Polygonizer::BlockList Polygonizer::blocksNear(std::span<const Vec3> points, double radius) const {
     if (points.empty()) return {};
-    const Aabb box = mRegion.box();
-    const double blockSize = kBlockCells * mRegion.spacingMm;
     const double r2 = radius * radius;
     std::vector<char> marked(mBlocks.size(), 0);
     std::vector<std::array<int, 3>> blocks;
     for (const Vec3& p : points) {
         std::array<int, 3> lo{}, hi{};
-        bool outside = false;
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = std::max(0, int(std::floor((p[a] - radius - box.min[a]) / blockSize)) - 1);
-            hi[a] = std::min(mBlocksPerAxis - 1,
-                             int(std::floor((p[a] + radius - box.min[a]) / blockSize)) + 1);
-            outside |= lo[a] > hi[a];
-        }
-        if (outside) continue;
+        if (!blockRange(Aabb{p - Vec3(radius), p + Vec3(radius)}, lo, hi)) continue;
         for (int x = lo[0]; x <= hi[0]; ++x)
             for (int y = lo[1]; y <= hi[1]; ++y)
                 for (int z = lo[2]; z <= hi[2]; ++z) {

@@ -129,6 +129,11 @@ class LocalField {
                   std::span<const double> zs, FixedSum* out) const;
 
   private:
+    /// |p - skeleton|^2 for skeletons base .. base + m - 1 (a loop the compiler vectorises;
+    /// the same operations as FieldProbe: (dx*dx + dy*dy) + dz*dz).
+    static constexpr size_t kDistanceChunk = 64;
+    void squaredDistances(const Vec3& p, size_t base, size_t m, double* out) const;
+
     const HermiteFalloff* mFalloff;
     double mIso;
     Aabb mBox;

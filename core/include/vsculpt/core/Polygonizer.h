@@ -155,6 +155,11 @@ class Polygonizer {
     mutable std::vector<std::unique_ptr<BlockSums>> mSums;
     uint64_t mSumsAt = 0;
     void dropSums();
+    /// Block indices whose closed boxes may touch `box` (one block of slack each side),
+    /// clamped to the region; false when none.
+    bool blockRange(const Aabb& box, std::array<int, 3>& lo, std::array<int, 3>& hi) const;
+    /// The x, y and z coordinates of a block's (kBlockCells + 1) grid planes.
+    void blockAxes(int bx, int by, int bz, double* xs, double* ys, double* zs) const;
 };
 
 }  // namespace vsculpt::core

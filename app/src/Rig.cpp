@@ -161,6 +161,18 @@ std::vector<std::vector<core::Vec3>> projectOnModel(const Session& session,
     return lines;
 }
 
+bool playNextScriptCommand(Studio& studio, const studio::Script& script, size_t& index) {
+    if (index >= script.commands.size()) return true;
+    const studio::ScriptCommand& c = script.commands[index++];
+    try {
+        studio.apply(c);
+    } catch (const std::exception& e) {
+        spdlog::error("{}:{}: {}", script.source, c.line, e.what());
+        return false;
+    }
+    return true;
+}
+
 void installProjector(Studio& studio) {
     studio.setSurfaceProjector(
         [](const Session& s, const std::vector<glm::dvec2>& px, glm::ivec2 viewport) {

@@ -214,15 +214,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
             });
         };
 
-        if (commandIndex < script.commands.size()) {
-            const ScriptCommand& c = script.commands[commandIndex++];
-            try {
-                studio.apply(c);
-            } catch (const std::exception& e) {
-                spdlog::error("{}:{}: {}", script.source, c.line, e.what());
-                return 2;
-            }
-        }
+        if (!playNextScriptCommand(studio, script, commandIndex)) return 2;
         for (const auto& [at, ev] : o.injectedEvents)
             if (at == frame) viewer->injectEvent(ev);
         // One action, from a key binding or the panel (the same names): applied the same way.

@@ -161,15 +161,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         Interaction& ui = rig->interaction();
         const auto t0 = std::chrono::steady_clock::now();
         // Scripted commands first (one per frame), then live input.
-        if (commandIndex < script.commands.size()) {
-            const ScriptCommand& c = script.commands[commandIndex++];
-            try {
-                studio.apply(c);
-            } catch (const std::exception& e) {
-                spdlog::error("{}:{}: {}", script.source, c.line, e.what());
-                return 2;
-            }
-        }
+        if (!playNextScriptCommand(studio, script, commandIndex)) return 2;
         const ToolLevel& level = session.sculpture().levels().level(session.size());
         bool switched = false;
         // One action, from a key binding or the UI (the same names): applied the same way.

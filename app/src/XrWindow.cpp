@@ -190,15 +190,9 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
             xr->beginFrame();
             Studio& studio = rig->studio();
             const Session& session = rig->session();
-            if (commandIndex < script.commands.size()) {
-                const ScriptCommand& c = script.commands[commandIndex++];
-                try {
-                    studio.apply(c);
-                } catch (const std::exception& e) {
-                    spdlog::error("{}:{}: {}", script.source, c.line, e.what());
-                    xr->requestExit();
-                    code = 2;
-                }
+            if (!playNextScriptCommand(studio, script, commandIndex)) {
+                xr->requestExit();
+                code = 2;
             }
             const XrHands hands =
                 handsInWorld(xr->syncInput(timing.predictedDisplayTime), cfg.render.xr);

@@ -11,6 +11,7 @@
 #include "vsculpt/core/ExportMesh.h"
 #include "vsculpt/render/ProjectStroke.h"
 #include "vsculpt/studio/Interaction.h"
+#include "vsculpt/studio/Script.h"
 #include "vsculpt/studio/Studio.h"
 
 #include <filesystem>
@@ -77,6 +78,11 @@ std::vector<std::vector<core::Vec3>> projectOnModel(const studio::Session& sessi
 
 /// Lets `studio` run `model-line` script commands: projectOnModel over frontCamera.
 void installProjector(studio::Studio& studio);
+
+/// A window's `--play` script runs one command per frame: applies the command at `index`
+/// (if any is left) and advances it. On failure logs "FILE:LINE: why" and returns false;
+/// the window then ends with exit code 2.
+bool playNextScriptCommand(studio::Studio& studio, const studio::Script& script, size_t& index);
 
 class Rig {
   public:

@@ -136,11 +136,13 @@ size_t AsyncMesher::cancelledPasses() const {
     return mCancelled;
 }
 
+bool AsyncMesher::idleLocked() const {
+    return mPublished->complete && mPublished->edits == mPostedEdits && mCallbacksRunning == 0;
+}
+
 void AsyncMesher::waitIdle() {
     std::unique_lock lock(mMutex);
-    mIdle.wait(lock, [&] {
-        return mError || (mPublished->complete && mPublished->edits == mPostedEdits);
-    });
+    mIdle.wait(lock, [&] { return mError || idleLocked(); });
     if (mError) std::rethrow_exception(mError);
 }
 
@@ -149,9 +151,7 @@ std::string AsyncMesher::verifyAgainstFullRebuild() {
     // under this lock), and after waitIdle it has nothing in hand: the replica and the
     // polygonizer are at rest.
     std::unique_lock lock(mMutex);
-    mIdle.wait(lock, [&] {
-        return mError || (mPublished->complete && mPublished->edits == mPostedEdits);
-    });
+    mIdle.wait(lock, [&] { return mError || idleLocked(); });
     if (mError) std::rethrow_exception(mError);
     return mPoly->verifyAgainstFullRebuild();
 }
@@ -174,6 +174,7 @@ void AsyncMesher::publish(std::shared_ptr<const MeshChunks> set) {
     {
         std::lock_guard lock(mMutex);
         mPublished = std::move(set);
+        if (mOptions.onPublish) ++mCallbacksRunning;
         if (mPublished->complete) {
             const auto now = Clock::now();
             auto it = mInFlight.begin();
@@ -184,7 +185,14 @@ void AsyncMesher::publish(std::shared_ptr<const MeshChunks> set) {
         }
     }
     mIdle.notify_all();
-    if (mOptions.onPublish) mOptions.onPublish(*keep);
+    if (!mOptions.onPublish) return;
+    mOptions.onPublish(*keep);
+    // waitIdle() returns only after the observer has seen the set it waited for.
+    {
+        std::lock_guard lock(mMutex);
+        --mCallbacksRunning;
+    }
+    mIdle.notify_all();
 }
 
 void AsyncMesher::run() {

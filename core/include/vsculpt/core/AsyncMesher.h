@@ -53,9 +53,10 @@ class AsyncMesher {
         /// How many: 0 = every core but one (the frame thread's, so placing a sample never
         /// waits for a core behind the mesher).
         int threads = 0;
-        bool preview = true;   ///< publish a half-resolution preview of a new region first
+        bool preview = true;  ///< publish a half-resolution preview of a new region first
         /// Called on the mesher thread with every set it publishes, after publishing (tests;
-        /// a host that wants to wake its frame loop). Must not call into the mesher.
+        /// a host that wants to wake its frame loop); waitIdle() also waits for it. Must not
+        /// call into the mesher.
         std::function<void(const MeshChunks&)> onPublish;
     };
 
@@ -133,6 +134,9 @@ class AsyncMesher {
     bool mStop = false;
     bool mHeld = false;
     uint64_t mPostedEdits = 0;
+    int mCallbacksRunning = 0;  // onPublish calls under way (waitIdle waits for them)
+    /// Everything posted is published complete and every observer has seen it. Under mMutex.
+    bool idleLocked() const;
     GridRegion mTargetRegion;
     std::shared_ptr<const MeshChunks> mPublished;
     std::vector<std::pair<uint64_t, Clock::time_point>> mInFlight;  // edits not yet published

@@ -148,9 +148,11 @@ class StrokeBuilder {
     std::unordered_map<LatticeCoord, Target, LatticeCoordHash> mTargets;
     struct Tap {
         LatticeCoord offset;
-        double weight;
+        double target = 0;      // of the targets' (stabilised) stencil
+        double correction = 0;  // of the fit corrections' (plain) stencil
     };
-    std::vector<Tap> mDeconvolve;  // weight(v) = sum of tap.weight * change(v - tap.offset)
+    // weight(v) = sum of tap.target * change(v - tap.offset) + tap.correction * correction(...)
+    std::vector<Tap> mDeconvolve;
     std::unique_ptr<FieldProbe> mProbe;
     // Smooth: per level (1..7), each visited vertex's closest approach and the pre-stroke
     // state of every vertex the stroke changed.

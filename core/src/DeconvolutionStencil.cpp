@@ -63,12 +63,13 @@ std::vector<StencilTap> deconvolutionStencil(const HermiteFalloff& falloff,
     }
     if (stabilised) {
         // Where K^ < 0 the Richardson sum is about 3.3 (with 2 steps) while the response should
-        // not be negative: subtract a bump that is 1 on the zone's edges (two frequencies at pi)
-        // and vanishes to eighth order at zero. Across a sequence of strokes each one's targets
-        // are read from the field the others left, so a response below zero is a loop gain
-        // above one: adds and carves alternating in one place grew the weights without bound
-        // (x1e5 in 300 strokes, docs/placement.md "Stability"). The factor 3 was chosen from
-        // the response (min -0.031) and that scrubbing test; 2 still grows slowly, 1 as before.
+        // not be negative: subtract a bump that rises along the zone's edges (two frequencies at
+        // pi) to 1 at the corner, where K^ is negative, and vanishes to tenth order at zero. Across
+        // a sequence of strokes each one's targets are read from the field the others left, so a
+        // response below zero is a loop gain above one: adds and carves alternating in one place
+        // grew the weights without bound (x1e5 in 300 strokes, docs/placement.md "Stability"). The
+        // factor 3 was chosen from the response (min -0.031) and that scrubbing test; 2 still grows
+        // slowly, 1 as before.
         constexpr double kStabiliser = 3.0;
         for (int a = 0; a < 3; ++a) {
             const int b = (a + 1) % 3, c = (a + 2) % 3;

@@ -28,8 +28,9 @@ std::vector<StencilTap> latticeBlur(const HermiteFalloff& falloff, double suppor
 /// smooth. Where K^ < 0 (near the lattice's checkerboard frequencies: at R/h = 1.66 K^/S
 /// reaches -0.1 there) the response is negative, -0.33 with 2 steps: a change there comes out
 /// with the opposite sign. With `stabilised`, P is reduced near those frequencies (by 3 times
-/// the sum over the three axis pairs of (1 - cos a)^2 (1 - cos b)^2 (1 - cos c) / 32, which
-/// is 1 on the zone's edges where K^ < 0 and of eighth order at zero frequency), so that the
+/// the sum over the three axis pairs of (1 - cos a)^2 (1 - cos b)^2 (1 - cos c) / 32: on the
+/// zone's edges, where a and b are pi, it rises from 0 to 1 as c goes to pi, as K^ turns
+/// negative; at zero frequency it is of tenth order), so that the
 /// response stays within [-0.031, 1] at every frequency while it changes by less than 1 %
 /// for |frequency| <= 2 rad per spacing.
 std::vector<StencilTap> deconvolutionStencil(const HermiteFalloff& falloff,

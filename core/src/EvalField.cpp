@@ -33,6 +33,16 @@ inline void forEachSkeletonNear(const LevelBricks& L, double h, double R, const 
     const int y1 = std::min(int(std::ceil((hi.y + R) * inv)), L.max[1]);
     const int z1 = std::min(int(std::ceil((hi.z + R) * inv)), L.max[2]);
     if (x0 > x1 || y0 > y1 || z0 > z1) return;
+    // The bits of a brick whose coordinate along an axis lies in [lo, hi] (brick-local). The
+    // bricks at the ends of the range hold vertices outside it, a spacing or more beyond the
+    // support of every point in [lo, hi]: masked out, they are never visited (every visitor
+    // would reject them on distance anyway), which in a small box is most of them.
+    auto axisBits = [](int lo, int hi, uint64_t unit, int stride) {
+        uint64_t m = 0;
+        for (int v = std::max(lo, 0); v <= std::min(hi, kBrickDim - 1); ++v)
+            m |= unit << (stride * v);
+        return m;
+    };
     for (int bx = x0 >> 2; bx <= x1 >> 2; ++bx)
         for (int by = y0 >> 2; by <= y1 >> 2; ++by)
             for (int bz = z0 >> 2; bz <= z1 >> 2; ++bz) {
@@ -40,10 +50,14 @@ inline void forEachSkeletonNear(const LevelBricks& L, double h, double R, const 
                 if (slot < 0) continue;
                 const Brick& b = L.bricks[size_t(slot)];
                 const float* w = L.pool.data() + b.offset;
-                uint64_t bits = b.mask;
-                for (int r = 0; bits; ++r) {
+                uint64_t bits = b.mask & axisBits(x0 - b.ox, x1 - b.ox, 0xFFFFull, 16) &
+                                axisBits(y0 - b.oy, y1 - b.oy, 0x000F000F000F000Full, 4) &
+                                axisBits(z0 - b.oz, z1 - b.oz, 0x1111111111111111ull, 1);
+                while (bits) {
                     const int n = std::countr_zero(bits);
                     bits &= bits - 1;
+                    // Weights are stored in bit order: this one's is after those of the lower bits.
+                    const int r = std::popcount(b.mask & ((uint64_t(1) << n) - 1));
                     if (w[r] == 0.0f) continue;
                     visit(Vec3((b.ox + (n >> 4)) * h, (b.oy + ((n >> 2) & 3)) * h,
                                (b.oz + (n & 3)) * h),
@@ -204,6 +218,12 @@ namespace vsculpt::core {
 
 LocalField::LocalField(const Sculpture& sculpture, const Aabb& box)
     : mFalloff(&sculpture.levels().falloff()), mIso(sculpture.levels().iso()), mBox(box) {
+    // Room for what a block of piled-up clay usually gathers (tens of skeletons): the
+    // polygonizer gathers one LocalField per rebuilt block, and growing six arrays from empty
+    // cost a dozen or more allocations each time.
+    constexpr size_t kUsual = 64;
+    for (auto* v : {&mX, &mY, &mZ, &mW, &mInvR, &mR2})
+        v->reserve(kUsual);
     auto push = [&](const Vec3& pos, double w, double support) {
         mX.push_back(pos.x);
         mY.push_back(pos.y);
@@ -301,9 +321,15 @@ void LocalField::gridValues(std::span<const double> xs, std::span<const double> 
         out[q] -= mIso;
 }
 
-void splatFixed(const HermiteFalloff& falloff, const Vec3& c, double w, double invR, double r2,
-                std::span<const double> xs, std::span<const double> ys, std::span<const double> zs,
-                FixedSum* out, int sign) {
+namespace {
+
+/// Calls at(vertex, d2) for every vertex of a regular grid (at most 16 per axis, laid out as
+/// in LocalField::gridValues) within the support of a skeleton at c: d2 < r2, with the
+/// squared distance computed as (dx*dx + dy*dy) + dz*dz, as everywhere else.
+template <typename At>
+void forEachVertexInReach(const Vec3& c, double r2, std::span<const double> xs,
+                          std::span<const double> ys, std::span<const double> zs, FixedSum* out,
+                          At&& at) {
     const size_t ny = ys.size(), nz = zs.size();
     if (xs.size() > 16 || ny > 16 || nz > 16)
         throw std::invalid_argument("splatFixed: at most 16^3");
@@ -337,10 +363,30 @@ void splatFixed(const HermiteFalloff& falloff, const Vec3& c, double w, double i
             for (size_t k = k0; k < k1; ++k) {
                 const double d2 = xy + dz2[k];
                 if (d2 >= r2) continue;
-                const FixedSum t = fixedTerm(w * falloff.value(std::sqrt(d2) * invR));
-                row[k] += sign > 0 ? t : -t;
+                at(row[k], d2);
             }
         }
+}
+
+}  // namespace
+
+void splatFixed(const HermiteFalloff& falloff, const Vec3& c, double w, double invR, double r2,
+                std::span<const double> xs, std::span<const double> ys, std::span<const double> zs,
+                FixedSum* out, int sign) {
+    forEachVertexInReach(c, r2, xs, ys, zs, out, [&](FixedSum& sum, double d2) {
+        const FixedSum t = fixedTerm(w * falloff.value(std::sqrt(d2) * invR));
+        sum += sign > 0 ? t : -t;
+    });
+}
+
+void splatFixedChange(const HermiteFalloff& falloff, const Vec3& c, double before, double after,
+                      double invR, double r2, std::span<const double> xs,
+                      std::span<const double> ys, std::span<const double> zs, FixedSum* out) {
+    forEachVertexInReach(c, r2, xs, ys, zs, out, [&](FixedSum& sum, double d2) {
+        // F once for both terms: each is still w * F, as splatFixed computes it.
+        const double f = falloff.value(std::sqrt(d2) * invR);
+        sum += fixedTerm(after * f) - fixedTerm(before * f);
+    });
 }
 
 void LocalField::squaredDistances(const Vec3& p, size_t base, size_t m, double* out) const {
@@ -368,13 +414,22 @@ FieldSample LocalField::sample(const Vec3& p) const {
     double sum = 0;
     const size_t n = mX.size();
     double r2s[kDistanceChunk];
+    uint8_t near[kDistanceChunk];
     for (size_t base = 0; base < n; base += kDistanceChunk) {
         const size_t m = std::min(kDistanceChunk, n - base);
         squaredDistances(p, base, m, r2s);
+        // The skeletons in reach listed first, without a branch per skeleton: in piled-up
+        // clay a block gathers many that reach only part of it, and a branch on each
+        // mispredicts often. The terms are then added in the same order as before.
+        size_t k = 0;
         for (size_t q = 0; q < m; ++q) {
+            near[k] = uint8_t(q);
+            k += !(r2s[q] >= mR2[base + q]);
+        }
+        for (size_t j = 0; j < k; ++j) {
+            const size_t q = near[j];
             const size_t i = base + q;
             const double r2 = r2s[q];
-            if (r2 >= mR2[i]) continue;
             const Vec3 d(p.x - mX[i], p.y - mY[i], p.z - mZ[i]);
             const double r = std::sqrt(r2);
             const double u = r * mInvR[i];

@@ -38,6 +38,62 @@ Vec3 cornerOffset(int c) {
     return Vec3(c & 1, (c >> 1) & 1, (c >> 2) & 1);
 }
 
+/// What a tetrahedron of the Kuhn split emits for one choice of inside corners: the crossed
+/// edges (corner pairs, smaller corner first) in the order the triangles use them, and whether
+/// the triangles' order must flip to face outward. The same in every cell, so it is worked out
+/// once per tetrahedron and sign mask instead of for every crossed tetrahedron of every block.
+struct TetCase {
+    int edges = 0;  // 0: no crossing, 3: one triangle, 4: a quad (two triangles)
+    std::array<std::array<int, 2>, 4> edge{};
+    bool flip = false;
+};
+
+/// Indexed by tetrahedron and mask (bit q: the tetrahedron's corner q is inside).
+const std::array<std::array<TetCase, 16>, 6>& tetrahedronCases() {
+    static const auto cases = [] {
+        std::array<std::array<TetCase, 16>, 6> out{};
+        const auto& tets = Polygonizer::kuhnTetrahedra();
+        for (size_t t = 0; t < tets.size(); ++t)
+            for (int mask = 1; mask < 15; ++mask) {
+                int in[4], out4[4], nIn = 0, nOut = 0;
+                for (int q = 0; q < 4; ++q)
+                    ((mask >> q) & 1 ? in[nIn++] : out4[nOut++]) = tets[t][size_t(q)];
+                // Outward: from the inside corners towards the outside ones.
+                Vec3 g(0.0);
+                for (int q = 0; q < nOut; ++q)
+                    g += cornerOffset(out4[q]);
+                for (int q = 0; q < nIn; ++q)
+                    g -= cornerOffset(in[q]);
+                std::array<std::pair<int, int>, 4> e{};
+                int ne = 0;
+                if (nIn == 1) {
+                    for (int q = 0; q < 3; ++q)
+                        e[size_t(ne++)] = {in[0], out4[q]};
+                } else if (nOut == 1) {
+                    for (int q = 0; q < 3; ++q)
+                        e[size_t(ne++)] = {in[q], out4[0]};
+                } else {  // two and two: a quad, cyclic through shared corners
+                    e = {{{in[0], out4[0]}, {in[0], out4[1]}, {in[1], out4[1]}, {in[1], out4[0]}}};
+                    ne = 4;
+                }
+                // Orientation from the exact edge midpoints (never the roots, which can
+                // coincide), so it is consistent even for degenerate triangles.
+                auto mid = [](const std::pair<int, int>& ab) {
+                    return 0.5 * (cornerOffset(ab.first) + cornerOffset(ab.second));
+                };
+                const Vec3 m0 = mid(e[0]), m1 = mid(e[1]), m2 = mid(e[2]);
+                TetCase& c = out[t][size_t(mask)];
+                c.edges = ne;
+                c.flip = glm::dot(glm::cross(m1 - m0, m2 - m0), g) < 0;
+                for (int q = 0; q < ne; ++q)
+                    c.edge[size_t(q)] = {std::min(e[size_t(q)].first, e[size_t(q)].second),
+                                         std::max(e[size_t(q)].first, e[size_t(q)].second)};
+            }
+        return out;
+    }();
+    return cases;
+}
+
 }  // namespace
 
 const std::array<std::array<int, 4>, 6>& Polygonizer::kuhnTetrahedra() {
@@ -86,6 +142,8 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
     const int64_t gy0 = mRegion.originCell[1] + int64_t(by) * kBlockCells;
     const int64_t gz0 = mRegion.originCell[2] + int64_t(bz) * kBlockCells;
     std::unique_ptr<BlockSums>& sums = mSums[blockIndex(bx, by, bz)];
+    // The roots of edges no write reached since the last build can be kept (BlockSums).
+    const BlockMesh* old = sums && sums->meshFromSums ? &mBlocks[blockIndex(bx, by, bz)] : nullptr;
     if (!sums) {
         field.emplace(mSculpture, box);
         if (!field->bounds().mayContainSurface()) return false;
@@ -108,8 +166,21 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
                 values[i][j][k] = fixedToField(sums->values[size_t((i * V + j) * V + k)], iso);
                 (values[i][j][k] > 0 ? anyIn : anyOut) = true;
             }
-    if (!anyIn || !anyOut) return true;
-    if (!field) field.emplace(mSculpture, box);
+    auto built = [&] {
+        sums->meshFromSums = true;
+        sums->touched.clear();
+        return true;
+    };
+    if (!anyIn || !anyOut) return built();
+    // Whether a write since the old mesh reached the closed box [lo, hi] (the samples of an
+    // edge's root lie in it).
+    auto touched = [&](const Vec3& lo, const Vec3& hi) {
+        for (const auto& [c, r2] : sums->touched) {
+            const Vec3 d = c - glm::clamp(c, lo, hi);
+            if (glm::dot(d, d) < r2) return true;
+        }
+        return false;
+    };
 
     // Grid edges of the block by local start vertex and direction: computed yet or not.
     // (A flat table: no hashing or allocation on this hot path.)
@@ -131,6 +202,18 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
         const int bi = ai + (dir & 1), bj = aj + ((dir >> 1) & 1), bk = ak + ((dir >> 2) & 1);
         Vec3 lo = mRegion.vertexPos(gx0 + ai, gy0 + aj, gz0 + ak);
         Vec3 hi = mRegion.vertexPos(gx0 + bi, gy0 + bj, gz0 + bk);
+        if (old && !touched(lo, hi)) {
+            // The end values are the same too, so the edge crossed before and its vertex is
+            // in the old mesh (not found only after a chunk cull emptied it: solved below).
+            const auto it =
+                std::lower_bound(old->vertices.begin(), old->vertices.end(), key,
+                                 [](const EdgeVertex& v, uint64_t k) { return v.key < k; });
+            if (it != old->vertices.end() && it->key == key) {
+                out.vertices.push_back(*it);
+                return key;
+            }
+        }
+        if (!field) field.emplace(mSculpture, box);
         double flo = values[ai][aj][ak], fhi = values[bi][bj][bk];
         // Always from the smaller end, so every block computing this edge gets the same bits.
         const bool loInside = flo > 0;
@@ -169,6 +252,7 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
     };
 
     const auto& tets = kuhnTetrahedra();
+    const auto& cases = tetrahedronCases();
     for (int i = 0; i < kBlockCells; ++i)
         for (int j = 0; j < kBlockCells; ++j)
             for (int k = 0; k < kBlockCells; ++k) {
@@ -179,59 +263,30 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
                     inside += f[c] > 0;
                 }
                 if (inside == 0 || inside == 8) continue;
-                for (const auto& t : tets) {
-                    int in[4], out4[4], nIn = 0, nOut = 0;
-                    for (int c : t)
-                        (f[c] > 0 ? in[nIn++] : out4[nOut++]) = c;
-                    if (nIn == 0 || nOut == 0) continue;
+                for (size_t t = 0; t < tets.size(); ++t) {
+                    int mask = 0;
+                    for (int q = 0; q < 4; ++q)
+                        mask |= int(f[tets[t][size_t(q)]] > 0) << q;
+                    const TetCase& tc = cases[t][size_t(mask)];
+                    if (tc.edges == 0) continue;
                     // Tetrahedron edges join corners a < b with b's bits a superset of a's.
-                    auto edge = [&](int a, int b) {
-                        const int lo = std::min(a, b), hi = std::max(a, b);
-                        return crossing(i + (lo & 1), j + ((lo >> 1) & 1), k + ((lo >> 2) & 1),
-                                        hi ^ lo);
-                    };
-                    auto mid = [](int a, int b) {
-                        return 0.5 * (cornerOffset(a) + cornerOffset(b));
-                    };
-                    // Outward: from the inside corners towards the outside ones.
-                    Vec3 g(0.0);
-                    for (int q = 0; q < nOut; ++q)
-                        g += cornerOffset(out4[q]);
-                    for (int q = 0; q < nIn; ++q)
-                        g -= cornerOffset(in[q]);
-                    std::array<std::pair<int, int>, 4> e{};
-                    int ne = 0;
-                    if (nIn == 1) {
-                        for (int q = 0; q < 3; ++q)
-                            e[ne++] = {in[0], out4[q]};
-                    } else if (nOut == 1) {
-                        for (int q = 0; q < 3; ++q)
-                            e[ne++] = {in[q], out4[0]};
-                    } else {  // two and two: a quad, cyclic through shared corners
-                        e = {{{in[0], out4[0]},
-                              {in[0], out4[1]},
-                              {in[1], out4[1]},
-                              {in[1], out4[0]}}};
-                        ne = 4;
-                    }
-                    const Vec3 m0 = mid(e[0].first, e[0].second);
-                    const Vec3 m1 = mid(e[1].first, e[1].second);
-                    const Vec3 m2 = mid(e[2].first, e[2].second);
-                    const bool flip = glm::dot(glm::cross(m1 - m0, m2 - m0), g) < 0;
                     uint64_t key[4];
-                    for (int q = 0; q < ne; ++q)
-                        key[q] = edge(e[q].first, e[q].second);
+                    for (int q = 0; q < tc.edges; ++q) {
+                        const int lo = tc.edge[size_t(q)][0], hi = tc.edge[size_t(q)][1];
+                        key[q] = crossing(i + (lo & 1), j + ((lo >> 1) & 1), k + ((lo >> 2) & 1),
+                                          hi ^ lo);
+                    }
                     auto emit = [&](uint64_t a, uint64_t b, uint64_t c) {
-                        out.triangles.push_back(flip ? std::array<uint64_t, 3>{a, c, b}
-                                                     : std::array<uint64_t, 3>{a, b, c});
+                        out.triangles.push_back(tc.flip ? std::array<uint64_t, 3>{a, c, b}
+                                                        : std::array<uint64_t, 3>{a, b, c});
                     };
                     emit(key[0], key[1], key[2]);
-                    if (ne == 4) emit(key[0], key[2], key[3]);
+                    if (tc.edges == 4) emit(key[0], key[2], key[3]);
                 }
             }
     std::sort(out.vertices.begin(), out.vertices.end(),
               [](const EdgeVertex& a, const EdgeVertex& b) { return a.key < b.key; });
-    return true;
+    return built();
 }
 
 bool Polygonizer::blockRange(const Aabb& box, std::array<int, 3>& lo,
@@ -277,7 +332,7 @@ size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
     const HermiteFalloff& falloff = levels.falloff();
     struct Term {
         Vec3 c;
-        double before, after, invR, r2;
+        double before, after, invR, r2, reach2;
     };
     std::vector<Term> terms;
     std::vector<std::pair<uint32_t, uint32_t>> hits;  // (block, term) pairs with kept sums
@@ -288,8 +343,11 @@ size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
         const ToolLevel& tl = levels.level(w.level);
         // The centre, 1/R and R^2 exactly as LocalField computes them.
         const double h = tl.spacingMm, R = tl.supportMm;
-        const Term t{Vec3(w.coord.x * h, w.coord.y * h, w.coord.z * h), before, after, 1.0 / R,
-                     R * R};
+        // reach2: R^2 widened for rounding (in the samples' distances and in the points an
+        // edge root tries), for the test of which edge roots the write may change.
+        const double reach = R * (1 + 1e-9) + 1e-9;
+        const Vec3 c(w.coord.x * h, w.coord.y * h, w.coord.z * h);
+        const Term t{c, before, after, 1.0 / R, R * R, reach * reach};
         std::array<int, 3> lo{}, hi{};
         if (!blockRange(Aabb{t.c - Vec3(R), t.c + Vec3(R)}, lo, hi)) continue;
         for (int bx = lo[0]; bx <= hi[0]; ++bx)
@@ -327,18 +385,24 @@ size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
         constexpr int V = kBlockCells + 1;
         double xs[V], ys[V], zs[V];
         blockAxes(bx, by, bz, xs, ys, zs);
+        const Aabb box = blockBox(bx, by, bz, kBlockCells);
         size_t& n = splats.local();
         for (size_t h = first; h < last; ++h) {
             const Term& t = terms[hits[h].second];
-            if (t.before != 0) {
-                splatFixed(falloff, t.c, t.before, t.invR, t.r2, xs, ys, zs, sums->values.data(),
-                           -1);
-                ++n;
+            if (sums->meshFromSums) {
+                const Vec3 d = t.c - glm::clamp(t.c, box.min, box.max);
+                if (glm::dot(d, d) < t.reach2) {
+                    if (sums->touched.size() == kMaxTouched) {
+                        sums->meshFromSums = false;
+                        sums->touched.clear();
+                    } else {
+                        sums->touched.emplace_back(t.c, t.reach2);
+                    }
+                }
             }
-            if (t.after != 0) {
-                splatFixed(falloff, t.c, t.after, t.invR, t.r2, xs, ys, zs, sums->values.data(), 1);
-                ++n;
-            }
+            splatFixedChange(falloff, t.c, t.before, t.after, t.invR, t.r2, xs, ys, zs,
+                             sums->values.data());
+            n += (t.before != 0) + (t.after != 0);
         }
     });
     return splats.combine(std::plus<size_t>());
@@ -385,7 +449,11 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
             finished[i] = 0;
             return;
         }
-        BlockMesh fresh;
+        // Built into a buffer each thread keeps (and copied into the slot, into the capacity
+        // it has, only when it changed): no allocation for every block of every edit.
+        thread_local BlockMesh fresh;
+        fresh.vertices.clear();
+        fresh.triangles.clear();
         if (!culled[i] && !buildBlock(b[0], b[1], b[2], fresh, evals.local())) culled[i] = 1;
         BlockMesh& slot = mBlocks[blockIndex(b[0], b[1], b[2])];
         // Which neighbouring blocks see a difference: bit s (0..7) set when the blocks at
@@ -420,7 +488,7 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
             }
         }
         if (what) {
-            slot = std::move(fresh);
+            slot = fresh;
             changed[i] = char(what);
         }
     };
@@ -600,15 +668,56 @@ Mesh Polygonizer::chunkMesh(int cx, int cy, int cz) const {
             for (int z = cz * per; z < (cz + 1) * per; ++z)
                 triangles += mBlocks[blockIndex(x, y, z)].triangles.size();
     Mesh m;
+    if (triangles == 0) return m;
     m.positions.reserve(triangles);
     m.normals.reserve(triangles);
     m.indices.reserve(3 * triangles);
-    std::unordered_map<uint64_t, uint32_t> index;
-    index.reserve(triangles);
-    for (int x = cx * per; x < (cx + 1) * per; ++x)
-        for (int y = cy * per; y < (cy + 1) * per; ++y)
-            for (int z = cz * per; z < (cz + 1) * per; ++z)
-                appendBlock(mBlocks[blockIndex(x, y, z)], m, index);
+    // Every edge a chunk's triangle uses starts at a vertex of one of its cells, so its key
+    // maps to a slot of a flat table over the chunk's (kChunkCells + 1)^3 vertices and the 8
+    // directions: the same first-use numbering as appendBlock's hash map, without hashing or
+    // an allocation per vertex (this runs for every changed chunk of every edit). The chunk's
+    // own blocks own most of its vertices: their slots point at them first (kSource), so only
+    // the edges owned by the blocks beyond its far faces are looked up (findVertex).
+    constexpr int V = kChunkCells + 1;
+    constexpr uint32_t kUnset = ~uint32_t(0), kSource = uint32_t(1) << 31;
+    std::array<uint32_t, V * V * V * 8> slot;
+    slot.fill(kUnset);
+    const int64_t x0 = mRegion.originCell[0] + int64_t(cx) * kChunkCells;
+    const int64_t y0 = mRegion.originCell[1] + int64_t(cy) * kChunkCells;
+    const int64_t z0 = mRegion.originCell[2] + int64_t(cz) * kChunkCells;
+    constexpr uint64_t mask = (uint64_t(1) << 20) - 1;
+    auto local = [&](uint64_t key, int shift, int64_t origin) {
+        int64_t g = int64_t((key >> shift) & mask);
+        if (g >= (int64_t(1) << 19)) g -= int64_t(1) << 20;  // sign-extend 20 bits
+        const int64_t l = g - origin;
+        if (l < 0 || l >= V)
+            throw std::logic_error("polygonizer: a chunk's triangle uses an edge outside it");
+        return size_t(l);
+    };
+    auto slotOf = [&](uint64_t k) -> uint32_t& {
+        return slot[((local(k, 0, x0) * V + local(k, 20, y0)) * V + local(k, 40, z0)) * 8 +
+                    size_t(k >> 60)];
+    };
+    const BlockMesh* own[per * per * per];
+    for (int b = 0; b < per * per * per; ++b) {
+        own[b] = &mBlocks[blockIndex(cx * per + b / (per * per), cy * per + b / per % per,
+                                     cz * per + b % per)];
+        for (size_t i = 0; i < own[b]->vertices.size(); ++i)
+            slotOf(own[b]->vertices[i].key) = kSource | uint32_t(b) << 16 | uint32_t(i);
+    }
+    for (const BlockMesh* b : own)
+        for (const auto& t : b->triangles)
+            for (uint64_t k : t) {
+                uint32_t& s = slotOf(k);
+                if (s == kUnset || (s & kSource)) {
+                    const EdgeVertex& v =
+                        s == kUnset ? findVertex(k) : own[(s >> 16) & 0x7fff]->vertices[s & 0xffff];
+                    s = uint32_t(m.positions.size());
+                    m.positions.push_back(v.position);
+                    m.normals.push_back(v.normal);
+                }
+                m.indices.push_back(s);
+            }
     return m;
 }
 

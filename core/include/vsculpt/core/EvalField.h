@@ -83,7 +83,12 @@ inline FixedSum fixedTerm(double term) {
 }
 /// f from a fixed-point sum of terms.
 inline double fixedToField(FixedSum sum, double iso) {
-    return static_cast<double>(sum) / kFixedPerUnit - iso;
+    // Both conversions round correctly (to nearest), so they agree bit for bit; the 64-bit one
+    // is one instruction, the 128-bit one a library call (the polygonizer converts every kept
+    // grid value of every rebuilt block).
+    const auto narrow = static_cast<int64_t>(sum);
+    const double x = narrow == sum ? static_cast<double>(narrow) : static_cast<double>(sum);
+    return x / kFixedPerUnit - iso;
 }
 
 /// Adds `sign` times the fixed-point term of one skeleton (centre c, weight w, support radius
@@ -94,6 +99,11 @@ inline double fixedToField(FixedSum sum, double iso) {
 void splatFixed(const HermiteFalloff& falloff, const Vec3& c, double w, double invR, double r2,
                 std::span<const double> xs, std::span<const double> ys, std::span<const double> zs,
                 FixedSum* out, int sign);
+/// splatFixed of `after` and splatFixed of `before` with sign -1 in one pass (the same sums bit
+/// for bit): a skeleton's weight changing from `before` to `after`.
+void splatFixedChange(const HermiteFalloff& falloff, const Vec3& c, double before, double after,
+                      double invR, double r2, std::span<const double> xs,
+                      std::span<const double> ys, std::span<const double> zs, FixedSum* out);
 
 /// Conservative range of f over a box.
 struct FieldBounds {

@@ -151,7 +151,15 @@ class Polygonizer {
     struct BlockSums {
         std::array<FixedSum, (kBlockCells + 1) * (kBlockCells + 1) * (kBlockCells + 1)> values;
         size_t skeletons = 0;  // gathered when the sums were made: the cost of making them again
+        // The block's mesh (mBlocks) was built with these sums, and `touched` holds the support
+        // balls (centre, squared radius with a rounding margin) of every write that reached the
+        // block since: an edge that none of them reaches has the same field along it, bit for
+        // bit, so its old root is kept instead of solved again. Cleared when the block is
+        // rebuilt; past kMaxTouched balls the block solves every edge afresh.
+        bool meshFromSums = false;
+        std::vector<std::pair<Vec3, double>> touched;
     };
+    static constexpr size_t kMaxTouched = 64;
     mutable std::vector<std::unique_ptr<BlockSums>> mSums;
     uint64_t mSumsAt = 0;
     void dropSums();

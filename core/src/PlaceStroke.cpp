@@ -629,10 +629,43 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
         const std::optional<float> before = vit->second.preStroke;
         std::optional<float> after = before;
         if (before || std::abs(w) > 1e-9) after = float(double(before.value_or(0.0f)) + w);
-        if (after == current) continue;
+        if (after == current) {
+            mHeld.erase(v);
+            continue;
+        }
+        if (std::abs(double(after.value_or(0.0f)) - double(current.value_or(0.0f))) <
+            mHoldBelow) {
+            mHeld[v] = after;
+            continue;
+        }
+        mHeld.erase(v);
         setWeight(v, current, after);
         const Vec3 pos = vertexPos(v, tl.spacingMm);
         noteChanged(result, changed, pos);
+    }
+    result.changedRegion = changed.padded(tl.supportMm);
+    result.supportMm = tl.supportMm;
+    return result;
+}
+
+EditResult StrokeBuilder::finish() {
+    EditResult result;
+    if (mHeld.empty()) return result;
+    std::vector<std::pair<LatticeCoord, std::optional<float>>> held(mHeld.begin(), mHeld.end());
+    mHeld.clear();
+    // In coordinate order, so the writes (and a mesher's replay of them) do not depend on the
+    // hash table's.
+    std::sort(held.begin(), held.end(), [](const auto& l, const auto& r) {
+        return std::tie(l.first.x, l.first.y, l.first.z) <
+               std::tie(r.first.x, r.first.y, r.first.z);
+    });
+    const ToolLevel& tl = mSculpture.levels().level(mLevel);
+    Aabb changed;
+    for (const auto& [v, after] : held) {
+        const std::optional<float> current = mSculpture.store().get(mLevel, v);
+        if (after == current) continue;
+        setWeight(v, current, after);
+        noteChanged(result, changed, vertexPos(v, tl.spacingMm));
     }
     result.changedRegion = changed.padded(tl.supportMm);
     result.supportMm = tl.supportMm;
@@ -762,12 +795,17 @@ EditResult StrokeBuilder::addSampleWorld(const Vec3& worldPos,
 EditResult applyStroke(Sculpture& sculpture, ToolOp op, int level, std::span<const Vec3> path,
                        std::vector<SkeletonChange>* changes, MirrorAxis mirror) {
     StrokeBuilder stroke(sculpture, op, level, mirror);
+    // As the session places an interactive stroke, so that a journal replays to the same bits
+    // (holding back changes the rounding of the pre-stroke field the decisions read).
+    stroke.holdBackChangesBelow(kInteractiveHoldBelow);
     EditResult total;
-    for (const Vec3& p : path) {
-        const EditResult r = stroke.addSample(p);
+    auto add = [&](const EditResult& r) {
         total.changedRegion.expand(r.changedRegion);
         total.changedVertices += r.changedVertices;
-    }
+    };
+    for (const Vec3& p : path)
+        add(stroke.addSample(p));
+    add(stroke.finish());
     if (changes) {
         auto c = stroke.takeChanges();
         changes->insert(changes->end(), c.begin(), c.end());

@@ -281,6 +281,7 @@ void Session::beginStroke() {
                                                  : ToolOp::Smooth;
     try {
         mStroke = std::make_unique<StrokeBuilder>(*mSculpture, op, mSize, mMirror);
+        mStroke->holdBackChangesBelow(kInteractiveHoldBelow);
     } catch (const std::invalid_argument& e) {
         throw SessionError(e.what());  // smooth in thesis mode: the user's choice to change
     }
@@ -320,6 +321,22 @@ void Session::strokeSample(const Vec3& p, bool world) {
 
 void Session::endStroke() {
     if (!mStroke) return;
+    try {
+        // The small adjustments the samples held back: the stroke is complete only now.
+        const auto t0 = std::chrono::steady_clock::now();
+        const EditResult r = mStroke->finish();
+        if (!r.changedPoints.empty()) {
+            meshChanged(r.changedPoints, r.supportMm);
+            mSampleMs.push_back(
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                    .count());
+        }
+    } catch (...) {
+        meshChanged(revertChanges(*mSculpture, mStroke->changes()));
+        mStroke.reset();
+        mStrokeRecord = StrokeRecord{};
+        throw;
+    }
     mStrokeRecord.changes = mStroke->takeChanges();
     mStroke.reset();
     if (mStrokeRecord.samples.empty()) return;  // nothing placed: no step

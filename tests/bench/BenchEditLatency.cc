@@ -37,6 +37,14 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Strokes hold back their small weight changes until their end, as the session places them
+// (StrokeBuilder::holdBackChangesBelow); VSCULPT_BENCH_NO_HOLD=1 writes every change at once
+// (the rule before, for the A/B in docs/benchmarks.md).
+bool holdBack() {
+    static const bool hold = !std::getenv("VSCULPT_BENCH_NO_HOLD");
+    return hold;
+}
+
 double msSince(Clock::time_point t0, Clock::time_point t1) {
     return std::chrono::duration<double, std::milli>(t1 - t0).count();
 }
@@ -248,7 +256,7 @@ void BM_EditLatency(benchmark::State& state) {
     const Strokes st = measuredStrokes(zoom, level, kMinSamples);
     Polygonizer poly(s, st.region, s.config().polygonizer.rootTolerance);
     poly.rebuildAll();
-    std::vector<double> first, rest, placeMs, updateMs, publishMs;
+    std::vector<double> first, rest, placeMs, updateMs, publishMs, endMs;
     size_t evaluations = 0, blocks = 0, chunks = 0, terms = 0;
     // The writes of each sample go to the polygonizer as the asynchronous mesher passes them
     // (Polygonizer::noteWrites): its kept grid sums follow the edit.
@@ -262,6 +270,7 @@ void BM_EditLatency(benchmark::State& state) {
             std::vector<SkeletonChange> changes;
             {
                 StrokeBuilder stroke(s, ToolOp::Add, level);
+                if (holdBack()) stroke.holdBackChangesBelow(kInteractiveHoldBelow);
                 for (size_t i = 0; i < path.size(); ++i) {
                     const auto t0 = Clock::now();
                     const EditResult r = stroke.addSample(path[i]);
@@ -283,6 +292,18 @@ void BM_EditLatency(benchmark::State& state) {
                     blocks += ps.blocksConsidered;
                     chunks += ps.chunksChanged;
                 }
+                // The stroke's end: the small changes its samples held back, as the session
+                // writes them (timed apart: it follows the last sample, not every one).
+                const auto t0 = Clock::now();
+                const EditResult r = stroke.finish();
+                if (noteWrites) terms += poly.noteWrites(writes);
+                writes.clear();
+                const PolygonizeStats ps = poly.update(r.changedPoints, r.supportMm);
+                size_t uploaded = 0;
+                for (const auto& c : ps.changedChunks)
+                    uploaded += poly.chunkMesh(c[0], c[1], c[2]).indices.size();
+                benchmark::DoNotOptimize(uploaded);
+                endMs.push_back(msSince(t0, Clock::now()));
                 changes = stroke.takeChanges();
             }
             state.PauseTiming();
@@ -298,6 +319,8 @@ void BM_EditLatency(benchmark::State& state) {
     state.counters["first_mean_ms"] = std::accumulate(first.begin(), first.end(), 0.0) /
                                       double(std::max<size_t>(1, first.size()));
     state.counters["first_max_ms"] = quantile(first, 1.0);
+    state.counters["end_mean_ms"] = std::accumulate(endMs.begin(), endMs.end(), 0.0) /
+                                    double(std::max<size_t>(1, endMs.size()));
     state.counters["place_p99_ms"] = quantile(placeMs, 0.99);
     state.counters["update_p99_ms"] = quantile(updateMs, 0.99);
     state.counters["publish_p99_ms"] = quantile(publishMs, 0.99);
@@ -691,7 +714,9 @@ void BM_FrameLoopAsync(benchmark::State& state) {
     AsyncMesher mesher(s, region, s.config().polygonizer.rootTolerance);
     const std::vector<std::vector<Vec3>> paths = frameLoopPaths(probe, top, d);
     const auto period = std::chrono::nanoseconds(11'111'111);
-    std::vector<double> frameCpu, frameWall, delay;
+    std::vector<double> frameCpu, frameWall, delay, endDelay;
+    bool flushed = false;
+    size_t flushes = 0;
     std::vector<uint64_t> shown = mesher.published()->versions;
     int missed = 0;
     size_t chunkUploads = 0, samples = 0;
@@ -701,6 +726,7 @@ void BM_FrameLoopAsync(benchmark::State& state) {
             std::vector<SkeletonChange> changes;
             {
                 StrokeBuilder stroke(s, ToolOp::Add, kLevel);
+                if (holdBack()) stroke.holdBackChangesBelow(kInteractiveHoldBelow);
                 const auto start = Clock::now();
                 for (int f = 0; f < kFrames; ++f) {
                     const auto sampleTime = start + f * period;
@@ -723,11 +749,21 @@ void BM_FrameLoopAsync(benchmark::State& state) {
                     missed += w1 - sampleTime > period;
                     ++samples;
                 }
+                // The stroke's end: what its samples held back (the session posts it then).
+                const EditResult r = stroke.finish();
+                flushed = !r.changedPoints.empty();
+                flushes += flushed;
+                if (flushed) mesher.post(std::exchange(writes, {}), r.changedPoints, r.supportMm);
                 changes = stroke.takeChanges();
             }
             state.PauseTiming();
             mesher.waitIdle();
-            for (double ms : mesher.takePublishDelaysMs())
+            std::vector<double> delays = mesher.takePublishDelaysMs();
+            if (flushed && !delays.empty()) {
+                endDelay.push_back(delays.back());
+                delays.pop_back();
+            }
+            for (double ms : delays)
                 delay.push_back(ms);
             mesher.post(std::exchange(writes, {}), revertChanges(s, changes));
             mesher.waitIdle();
@@ -740,10 +776,11 @@ void BM_FrameLoopAsync(benchmark::State& state) {
     reportPercentiles(state, "frame_cpu_", frameCpu);
     state.counters["frame_wall_p99_ms"] = quantile(frameWall, 0.99);
     reportPercentiles(state, "post_to_published_", delay);
+    reportPercentiles(state, "stroke_end_to_published_", endDelay);
     state.counters["frames"] = double(frameCpu.size());
     state.counters["frames_over_11ms"] = missed;
     state.counters["passes_per_sample"] =
-        double(mesher.passes() - passes0 - paths.size()) / double(samples);
+        double(mesher.passes() - passes0 - paths.size() - flushes) / double(samples);
     state.counters["chunk_uploads_per_frame"] = double(chunkUploads) / double(samples);
     state.counters["skeletons"] = double(s.counts().total());
 }

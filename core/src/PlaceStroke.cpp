@@ -86,8 +86,8 @@ constexpr double kDepthFromControlReach = 1.0;
 // A stroke's target field stays within this many times the fresh field's depth (F(0) - c) of
 // c: the surface lies where the field crosses c, so nothing deeper matters to it, and targets
 // read by extrapolating a steep old field (c + |grad| x depth) would otherwise pile ever larger
-// values into clay worked over and over (a random pile of 1 400 strokes: weights up to 34
-// without the band, 5 with it; docs/placement.md "Stability").
+// values into clay worked over and over (a random pile of 1 400 strokes, stabilised stencil:
+// weights up to 34 without the band, 5.2 with it; docs/placement.md "Stability").
 constexpr double kTargetBand = 2.0;
 
 // A changed vertex at `pos`: into the edit's region and point list.

@@ -372,10 +372,9 @@ void forEachVertexInReach(const Vec3& c, double r2, std::span<const double> xs,
 
 void splatFixed(const HermiteFalloff& falloff, const Vec3& c, double w, double invR, double r2,
                 std::span<const double> xs, std::span<const double> ys, std::span<const double> zs,
-                FixedSum* out, int sign) {
+                FixedSum* out) {
     forEachVertexInReach(c, r2, xs, ys, zs, out, [&](FixedSum& sum, double d2) {
-        const FixedSum t = fixedTerm(w * falloff.value(std::sqrt(d2) * invR));
-        sum += sign > 0 ? t : -t;
+        sum += fixedTerm(w * falloff.value(std::sqrt(d2) * invR));
     });
 }
 
@@ -403,8 +402,7 @@ void LocalField::gridSums(std::span<const double> xs, std::span<const double> ys
                           std::span<const double> zs, FixedSum* out) const {
     std::fill(out, out + xs.size() * ys.size() * zs.size(), FixedSum(0));
     for (size_t s = 0; s < mX.size(); ++s)
-        splatFixed(*mFalloff, Vec3(mX[s], mY[s], mZ[s]), mW[s], mInvR[s], mR2[s], xs, ys, zs, out,
-                   1);
+        splatFixed(*mFalloff, Vec3(mX[s], mY[s], mZ[s]), mW[s], mInvR[s], mR2[s], xs, ys, zs, out);
 }
 
 FieldSample LocalField::sample(const Vec3& p) const {

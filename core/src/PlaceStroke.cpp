@@ -403,6 +403,8 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
     // A smooth signed distance to the swept tool's surface (mm; < 0 inside), saturating at
     // sMax at the margin: the fresh field read as a distance.
     const double sMax = iso / slopeAtTool;
+    // Target fields stay within this of c: nothing deeper matters to the surface (kTargetBand).
+    const double band = kTargetBand * (freshField(0) - iso);
     // The target change of the field at a vertex, from the pre-stroke field there and the
     // vertex's distance to the path (docs/placement.md). Add raises the field to at least
     // c - slope * s, carve lowers it to at most c + slope * s: the new surface is the tool's
@@ -430,8 +432,6 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
             if (std::abs(dq) < std::abs(dv) && std::abs(dq) <= kDepthFromControlReach * radius)
                 phi = iso + t.grad * (dq + glm::dot(pos - *t.control, t.gradient) / t.grad);
         }
-        // Nothing deeper than the band matters to the surface (see kTargetBand).
-        const double band = kTargetBand * (freshField(0) - iso);
         if (mOp == ToolOp::Add) {
             const double slope = std::max(t.grad, (iso - t.phi) / sMax);
             const double c = std::clamp(iso - slope * s - (slope == t.grad ? phi : t.phi), 0.0,
@@ -550,9 +550,7 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
         order.reserve(set.size());
         for (const auto& [v, unused] : set)
             order.push_back(v);
-        std::sort(order.begin(), order.end(), [](const LatticeCoord& l, const LatticeCoord& r) {
-            return std::tie(l.x, l.y, l.z) < std::tie(r.x, r.y, r.z);
-        });
+        std::sort(order.begin(), order.end());  // coordinate order (x, then y, then z)
         return order;
     };
     // Adding never lowers the field and carving never raises it: the deconvolution's negative
@@ -633,8 +631,7 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
             mHeld.erase(v);
             continue;
         }
-        if (std::abs(double(after.value_or(0.0f)) - double(current.value_or(0.0f))) <
-            mHoldBelow) {
+        if (std::abs(double(after.value_or(0.0f)) - double(current.value_or(0.0f))) < mHoldBelow) {
             mHeld[v] = after;
             continue;
         }
@@ -655,10 +652,8 @@ EditResult StrokeBuilder::finish() {
     mHeld.clear();
     // In coordinate order, so the writes (and a mesher's replay of them) do not depend on the
     // hash table's.
-    std::sort(held.begin(), held.end(), [](const auto& l, const auto& r) {
-        return std::tie(l.first.x, l.first.y, l.first.z) <
-               std::tie(r.first.x, r.first.y, r.first.z);
-    });
+    std::sort(held.begin(), held.end(),
+              [](const auto& l, const auto& r) { return l.first < r.first; });
     const ToolLevel& tl = mSculpture.levels().level(mLevel);
     Aabb changed;
     for (const auto& [v, after] : held) {

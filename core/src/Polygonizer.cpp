@@ -34,6 +34,13 @@ uint64_t edgeKey(int64_t gx, int64_t gy, int64_t gz, int dir) {
            (uint64_t(dir) << 60);
 }
 
+/// The inverse of edgeKey for one axis (0..2): the start vertex's grid coordinate.
+int64_t edgeKeyCoord(uint64_t key, int axis) {
+    constexpr uint64_t m = (uint64_t(1) << 20) - 1;
+    const int64_t g = int64_t((key >> (20 * axis)) & m);
+    return g >= (int64_t(1) << 19) ? g - (int64_t(1) << 20) : g;  // sign-extend 20 bits
+}
+
 Vec3 cornerOffset(int c) {
     return Vec3(c & 1, (c >> 1) & 1, (c >> 2) & 1);
 }
@@ -685,17 +692,14 @@ Mesh Polygonizer::chunkMesh(int cx, int cy, int cz) const {
     const int64_t x0 = mRegion.originCell[0] + int64_t(cx) * kChunkCells;
     const int64_t y0 = mRegion.originCell[1] + int64_t(cy) * kChunkCells;
     const int64_t z0 = mRegion.originCell[2] + int64_t(cz) * kChunkCells;
-    constexpr uint64_t mask = (uint64_t(1) << 20) - 1;
-    auto local = [&](uint64_t key, int shift, int64_t origin) {
-        int64_t g = int64_t((key >> shift) & mask);
-        if (g >= (int64_t(1) << 19)) g -= int64_t(1) << 20;  // sign-extend 20 bits
-        const int64_t l = g - origin;
+    auto local = [&](uint64_t key, int axis, int64_t origin) {
+        const int64_t l = edgeKeyCoord(key, axis) - origin;
         if (l < 0 || l >= V)
             throw std::logic_error("polygonizer: a chunk's triangle uses an edge outside it");
         return size_t(l);
     };
     auto slotOf = [&](uint64_t k) -> uint32_t& {
-        return slot[((local(k, 0, x0) * V + local(k, 20, y0)) * V + local(k, 40, z0)) * 8 +
+        return slot[((local(k, 0, x0) * V + local(k, 1, y0)) * V + local(k, 2, z0)) * 8 +
                     size_t(k >> 60)];
     };
     const BlockMesh* own[per * per * per];

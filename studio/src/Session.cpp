@@ -296,16 +296,11 @@ void Session::strokeSample(const Vec3& p, bool world) {
     const Vec3 objectPos = world ? mWorldFromObject.inverse().apply(p) : p;
     try {
         const auto t0 = std::chrono::steady_clock::now();
-        const EditResult r = mStroke->addSample(objectPos);
-        meshChanged(r.changedPoints, r.supportMm);
-        mSampleMs.push_back(
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                .count());
+        strokeEdited(mStroke->addSample(objectPos), t0);
         mStrokeRecord.samples.push_back(objectPos);
     } catch (const std::logic_error& e) {
         // A refused sample cancels the whole stroke: no half-applied, unjournaled edit.
-        meshChanged(revertChanges(*mSculpture, mStroke->changes()));
-        mStroke.reset();
+        cancelStroke();
         // The lattices refuse a point they cannot hold with invalid_argument/out_of_range:
         // the user's input. Any other logic_error is a broken invariant and stays one.
         if (dynamic_cast<const std::invalid_argument*>(&e) ||
@@ -313,10 +308,21 @@ void Session::strokeSample(const Vec3& p, bool world) {
             throw SessionError(std::string("tool sample refused: ") + e.what());
         throw;
     } catch (...) {
-        meshChanged(revertChanges(*mSculpture, mStroke->changes()));
-        mStroke.reset();
+        cancelStroke();
         throw;
     }
+}
+
+void Session::strokeEdited(const EditResult& r, std::chrono::steady_clock::time_point t0) {
+    meshChanged(r.changedPoints, r.supportMm);
+    mSampleMs.push_back(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+}
+
+void Session::cancelStroke() {
+    meshChanged(revertChanges(*mSculpture, mStroke->changes()));
+    mStroke.reset();
+    mStrokeRecord = StrokeRecord{};
 }
 
 void Session::endStroke() {
@@ -325,16 +331,9 @@ void Session::endStroke() {
         // The small adjustments the samples held back: the stroke is complete only now.
         const auto t0 = std::chrono::steady_clock::now();
         const EditResult r = mStroke->finish();
-        if (!r.changedPoints.empty()) {
-            meshChanged(r.changedPoints, r.supportMm);
-            mSampleMs.push_back(
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                    .count());
-        }
+        if (!r.changedPoints.empty()) strokeEdited(r, t0);
     } catch (...) {
-        meshChanged(revertChanges(*mSculpture, mStroke->changes()));
-        mStroke.reset();
-        mStrokeRecord = StrokeRecord{};
+        cancelStroke();
         throw;
     }
     mStrokeRecord.changes = mStroke->takeChanges();

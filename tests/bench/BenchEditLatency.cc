@@ -265,6 +265,19 @@ void BM_EditLatency(benchmark::State& state) {
     // in docs/benchmarks.md).
     const bool noteWrites = !std::getenv("VSCULPT_BENCH_NO_SUMS");
     s.store().logWritesTo(&writes);
+    // The mesh follows one edit: the writes noted, the dirty blocks rebuilt (timed to t2), the
+    // changed chunks' upload meshes built.
+    auto remesh = [&](const EditResult& r, Clock::time_point& t2) {
+        if (noteWrites) terms += poly.noteWrites(writes);
+        writes.clear();
+        const PolygonizeStats ps = poly.update(r.changedPoints, r.supportMm);
+        t2 = Clock::now();
+        size_t uploaded = 0;
+        for (const auto& c : ps.changedChunks)
+            uploaded += poly.chunkMesh(c[0], c[1], c[2]).indices.size();
+        benchmark::DoNotOptimize(uploaded);
+        return ps;
+    };
     for (auto _ : state) {
         for (const auto& path : st.paths) {
             std::vector<SkeletonChange> changes;
@@ -275,14 +288,8 @@ void BM_EditLatency(benchmark::State& state) {
                     const auto t0 = Clock::now();
                     const EditResult r = stroke.addSample(path[i]);
                     const auto t1 = Clock::now();
-                    if (noteWrites) terms += poly.noteWrites(writes);
-                    writes.clear();
-                    const PolygonizeStats ps = poly.update(r.changedPoints, r.supportMm);
-                    const auto t2 = Clock::now();
-                    size_t uploaded = 0;
-                    for (const auto& c : ps.changedChunks)
-                        uploaded += poly.chunkMesh(c[0], c[1], c[2]).indices.size();
-                    benchmark::DoNotOptimize(uploaded);
+                    Clock::time_point t2;
+                    const PolygonizeStats ps = remesh(r, t2);
                     const auto t3 = Clock::now();
                     (i == 0 ? first : rest).push_back(msSince(t0, t3));
                     placeMs.push_back(msSince(t0, t1));
@@ -295,14 +302,8 @@ void BM_EditLatency(benchmark::State& state) {
                 // The stroke's end: the small changes its samples held back, as the session
                 // writes them (timed apart: it follows the last sample, not every one).
                 const auto t0 = Clock::now();
-                const EditResult r = stroke.finish();
-                if (noteWrites) terms += poly.noteWrites(writes);
-                writes.clear();
-                const PolygonizeStats ps = poly.update(r.changedPoints, r.supportMm);
-                size_t uploaded = 0;
-                for (const auto& c : ps.changedChunks)
-                    uploaded += poly.chunkMesh(c[0], c[1], c[2]).indices.size();
-                benchmark::DoNotOptimize(uploaded);
+                Clock::time_point t2;
+                remesh(stroke.finish(), t2);
                 endMs.push_back(msSince(t0, Clock::now()));
                 changes = stroke.takeChanges();
             }

@@ -91,16 +91,15 @@ inline double fixedToField(FixedSum sum, double iso) {
     return x / kFixedPerUnit - iso;
 }
 
-/// Adds `sign` times the fixed-point term of one skeleton (centre c, weight w, support radius
-/// R given as 1/R and R^2) to every vertex of a regular grid within its support, with the
-/// grid laid out as in LocalField::gridValues (at most 16 vertices per axis). Every caller
-/// computes a term with these same operations, so adding and later subtracting a skeleton's
-/// terms leaves exactly nothing behind.
+/// Adds the fixed-point term of one skeleton (centre c, weight w, support radius R given as
+/// 1/R and R^2) to every vertex of a regular grid within its support, with the grid laid out
+/// as in LocalField::gridValues (at most 16 vertices per axis).
 void splatFixed(const HermiteFalloff& falloff, const Vec3& c, double w, double invR, double r2,
                 std::span<const double> xs, std::span<const double> ys, std::span<const double> zs,
-                FixedSum* out, int sign);
-/// splatFixed of `after` and splatFixed of `before` with sign -1 in one pass (the same sums bit
-/// for bit): a skeleton's weight changing from `before` to `after`.
+                FixedSum* out);
+/// A skeleton's weight changing from `before` to `after`: subtracts the term splatFixed added
+/// for `before` and adds the one for `after`, computed with the same operations, so a kept sum
+/// updated this way equals a fresh splat bit for bit.
 void splatFixedChange(const HermiteFalloff& falloff, const Vec3& c, double before, double after,
                       double invR, double r2, std::span<const double> xs,
                       std::span<const double> ys, std::span<const double> zs, FixedSum* out);

@@ -18,6 +18,7 @@
 #include "vsculpt/core/Sculpture.h"
 #include "vsculpt/studio/Script.h"
 
+#include <chrono>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -166,6 +167,11 @@ class Session {
     /// The mesh follows an edit: f changed within `radius` of the points, or in the box.
     void meshChanged(std::span<const core::Vec3> points, double radius);
     void meshChanged(const core::Aabb& box);
+    /// A stroke's edit (a sample, or its held-back changes at the end) reaches the mesh; the
+    /// time since t0 (placement included) is recorded as a sample time.
+    void strokeEdited(const core::EditResult& r, std::chrono::steady_clock::time_point t0);
+    /// Takes the stroke in progress back (a refused sample, an error): nothing is journaled.
+    void cancelStroke();
 
     core::SculptConfig mConfig;
     std::unique_ptr<core::Sculpture> mSculpture;

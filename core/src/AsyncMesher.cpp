@@ -57,6 +57,15 @@ AsyncMesher::AsyncMesher(const Sculpture& sculpture, const GridRegion& region, d
     auto first = std::const_pointer_cast<MeshChunks>(publishChunks(*mPoly, nullptr));
     first->complete = true;
     mPublished = std::move(first);
+    if (mOptions.threaded) {
+        // The mesher's own thread (normal priority) and helpers for the other cores at idle
+        // priority: they take only cores nothing else wants, so the frame thread never waits
+        // for a core behind a rebuild, and a rebuild still uses every core the frame leaves.
+        const int threads =
+            mOptions.threads > 0 ? mOptions.threads : tbb::info::default_concurrency();
+        mWorkers = std::make_unique<WorkerPool>(threads - 1, mOptions.idleHelpers);
+        mPoly->useWorkers(mWorkers.get());
+    }
     mThread = std::thread([this] { run(); });
 }
 
@@ -196,9 +205,9 @@ void AsyncMesher::publish(std::shared_ptr<const MeshChunks> set) {
 }
 
 void AsyncMesher::run() {
-    const int threads =
-        mOptions.threads > 0 ? mOptions.threads : std::max(1, tbb::info::default_concurrency() - 1);
-    tbb::task_arena arena(threads);
+    // Every parallel loop of a rebuild runs on mWorkers; anything else that reaches for oneTBB
+    // stays on this thread instead of taking the shared workers from the frame's cores.
+    tbb::task_arena arena(1);
     arena.execute([&] { loop(); });
 }
 
@@ -237,6 +246,7 @@ void AsyncMesher::loop() {
             if (newRegion) {
                 if (mOptions.preview) {
                     Polygonizer coarse(*mReplica, previewRegion(*newRegion), mRelTolerance);
+                    coarse.useWorkers(mWorkers.get());
                     if (!coarse.rebuildAll(mOptions.threaded, &mCancel).unfinished.empty()) {
                         std::lock_guard lock(mMutex);
                         ++mCancelled;
@@ -248,6 +258,7 @@ void AsyncMesher::loop() {
                     publish(std::move(set));
                 }
                 mPoly = std::make_unique<Polygonizer>(*mReplica, *newRegion, mRelTolerance);
+                mPoly->useWorkers(mWorkers.get());
                 mPending = mPoly->rebuildAll(mOptions.threaded, &mCancel).unfinished;
             } else {
                 for (const Job* j : dirty)

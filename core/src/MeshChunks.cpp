@@ -3,8 +3,6 @@
 
 #include "vsculpt/core/Polygonizer.h"
 
-#include <tbb/parallel_for.h>
-
 #include <array>
 
 namespace vsculpt::core {
@@ -55,15 +53,17 @@ std::shared_ptr<const MeshChunks> publishChunks(const Polygonizer& poly,
                     fresh.push_back({x, y, z});
                 }
             }
-    // Each chunk's mesh is built from its own blocks (read-only): in parallel, in the caller's
-    // oneTBB arena (the mesher's).
-    tbb::parallel_for(size_t(0), fresh.size(), [&](size_t k) {
-        const auto [x, y, z] = fresh[k];
-        Mesh m = poly.chunkMesh(x, y, z);
-        if (m.triangleCount() == 0) return;
-        const size_t i = out->index(x, y, z);
-        out->chunkBounds[i] = meshBounds(m);
-        out->meshes[i] = std::make_shared<const Mesh>(std::move(m));
+    // Each chunk's mesh is built from its own blocks (read-only): in parallel, on the
+    // polygonizer's workers (the mesher's pool) or in the caller's oneTBB arena.
+    parallelFor(poly.workers(), fresh.size(), 1, [&](size_t k0, size_t k1) {
+        for (size_t k = k0; k < k1; ++k) {
+            const auto [x, y, z] = fresh[k];
+            Mesh m = poly.chunkMesh(x, y, z);
+            if (m.triangleCount() == 0) continue;
+            const size_t i = out->index(x, y, z);
+            out->chunkBounds[i] = meshBounds(m);
+            out->meshes[i] = std::make_shared<const Mesh>(std::move(m));
+        }
     });
     for (size_t i = 0; i < count; ++i)
         if (out->meshes[i]) out->bounds.expand(out->chunkBounds[i]);

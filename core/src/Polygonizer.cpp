@@ -4,9 +4,7 @@
 #include "vsculpt/core/EvalField.h"
 #include "vsculpt/core/Sculpture.h"
 
-#include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <atomic>
@@ -378,38 +376,40 @@ size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
         i = j;
     }
     tbb::combinable<size_t> splats([] { return size_t(0); });
-    tbb::parallel_for(size_t(0), groups.size(), [&](size_t g) {
-        const auto [first, last] = groups[g];
-        const uint32_t idx = hits[first].first;
-        std::unique_ptr<BlockSums>& sums = mSums[idx];
-        if (2 * (last - first) > sums->skeletons) {
-            sums.reset();
-            return;
-        }
-        const int bz = int(idx % size_t(mBlocksPerAxis)),
-                  by = int(idx / size_t(mBlocksPerAxis) % size_t(mBlocksPerAxis)),
-                  bx = int(idx / (size_t(mBlocksPerAxis) * size_t(mBlocksPerAxis)));
-        constexpr int V = kBlockCells + 1;
-        double xs[V], ys[V], zs[V];
-        blockAxes(bx, by, bz, xs, ys, zs);
-        const Aabb box = blockBox(bx, by, bz, kBlockCells);
-        size_t& n = splats.local();
-        for (size_t h = first; h < last; ++h) {
-            const Term& t = terms[hits[h].second];
-            if (sums->meshFromSums) {
-                const Vec3 d = t.c - glm::clamp(t.c, box.min, box.max);
-                if (glm::dot(d, d) < t.reach2) {
-                    if (sums->touched.size() == kMaxTouched) {
-                        sums->meshFromSums = false;
-                        sums->touched.clear();
-                    } else {
-                        sums->touched.emplace_back(t.c, t.reach2);
+    parallelFor(mWorkers, groups.size(), 8, [&](size_t g0, size_t g1) {
+        for (size_t g = g0; g < g1; ++g) {
+            const auto [first, last] = groups[g];
+            const uint32_t idx = hits[first].first;
+            std::unique_ptr<BlockSums>& sums = mSums[idx];
+            if (2 * (last - first) > sums->skeletons) {
+                sums.reset();
+                continue;
+            }
+            const int bz = int(idx % size_t(mBlocksPerAxis)),
+                      by = int(idx / size_t(mBlocksPerAxis) % size_t(mBlocksPerAxis)),
+                      bx = int(idx / (size_t(mBlocksPerAxis) * size_t(mBlocksPerAxis)));
+            constexpr int V = kBlockCells + 1;
+            double xs[V], ys[V], zs[V];
+            blockAxes(bx, by, bz, xs, ys, zs);
+            const Aabb box = blockBox(bx, by, bz, kBlockCells);
+            size_t& n = splats.local();
+            for (size_t h = first; h < last; ++h) {
+                const Term& t = terms[hits[h].second];
+                if (sums->meshFromSums) {
+                    const Vec3 d = t.c - glm::clamp(t.c, box.min, box.max);
+                    if (glm::dot(d, d) < t.reach2) {
+                        if (sums->touched.size() == kMaxTouched) {
+                            sums->meshFromSums = false;
+                            sums->touched.clear();
+                        } else {
+                            sums->touched.emplace_back(t.c, t.reach2);
+                        }
                     }
                 }
+                splatFixedChange(falloff, t.c, t.before, t.after, t.invR, t.r2, xs, ys, zs,
+                                 sums->values.data());
+                n += (t.before != 0) + (t.after != 0);
             }
-            splatFixedChange(falloff, t.c, t.before, t.after, t.invR, t.r2, xs, ys, zs,
-                             sums->values.data());
-            n += (t.before != 0) + (t.after != 0);
         }
     });
     return splats.combine(std::plus<size_t>());
@@ -436,7 +436,10 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
             chunkCulled[idx] = !field.bounds().mayContainSurface();
         };
         if (threaded)
-            tbb::parallel_for(size_t(0), chunkCulled.size(), testChunk);
+            parallelFor(mWorkers, chunkCulled.size(), 16, [&](size_t i0, size_t i1) {
+                for (size_t i = i0; i < i1; ++i)
+                    testChunk(i);
+            });
         else
             for (size_t i = 0; i < chunkCulled.size(); ++i)
                 testChunk(i);
@@ -500,11 +503,10 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
         }
     };
     if (threaded)
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks.size(), 4),
-                          [&](const tbb::blocked_range<size_t>& r) {
-                              for (size_t i = r.begin(); i != r.end(); ++i)
-                                  work(i);
-                          });
+        parallelFor(mWorkers, blocks.size(), 2, [&](size_t i0, size_t i1) {
+            for (size_t i = i0; i < i1; ++i)
+                work(i);
+        });
     else
         for (size_t i = 0; i < blocks.size(); ++i)
             work(i);

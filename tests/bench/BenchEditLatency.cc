@@ -701,6 +701,16 @@ BENCHMARK(BM_FrameLoop)
 /// per frame (GL upload and draw excluded, as above), the delay from post() to the first
 /// published set holding the sample, and how many rebuild passes the stroke took (fewer than
 /// samples: coalesced).
+/// The mesher's threads for A/B runs: VSCULPT_BENCH_MESHER_THREADS=N (the mesher's own
+/// included; stop 21 used every core but one), VSCULPT_BENCH_MESHER_NORMAL=1 (helpers at
+/// normal priority instead of idle).
+AsyncMesher::Options benchMesherOptions() {
+    AsyncMesher::Options o;
+    if (const char* n = std::getenv("VSCULPT_BENCH_MESHER_THREADS")) o.threads = std::atoi(n);
+    o.idleHelpers = !std::getenv("VSCULPT_BENCH_MESHER_NORMAL");
+    return o;
+}
+
 void BM_FrameLoopAsync(benchmark::State& state) {
     const size_t skeletons = size_t(state.range(0));
     DenseModel& model = denseModel(skeletons);
@@ -712,7 +722,7 @@ void BM_FrameLoopAsync(benchmark::State& state) {
     const GridRegion region = zoomRegion(s.config(), s.levels(), 1, top);
     std::vector<SkeletonWrite> writes;
     s.store().logWritesTo(&writes);
-    AsyncMesher mesher(s, region, s.config().polygonizer.rootTolerance);
+    AsyncMesher mesher(s, region, s.config().polygonizer.rootTolerance, benchMesherOptions());
     const std::vector<std::vector<Vec3>> paths = frameLoopPaths(probe, top, d);
     const auto period = std::chrono::nanoseconds(11'111'111);
     std::vector<double> frameCpu, frameWall, delay, endDelay;

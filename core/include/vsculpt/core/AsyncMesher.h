@@ -45,14 +45,18 @@ namespace vsculpt::core {
 
 class Polygonizer;
 class Sculpture;
+class WorkerPool;
 
 class AsyncMesher {
   public:
     struct Options {
-        bool threaded = true;  ///< spread each rebuild over oneTBB worker threads
-        /// How many: 0 = every core but one (the frame thread's, so placing a sample never
-        /// waits for a core behind the mesher).
+        bool threaded = true;  ///< spread each rebuild over the mesher's own worker threads
+        /// How many, the mesher thread included: 0 = one per core.
         int threads = 0;
+        /// Helpers (every thread but the mesher's) run at the system's idle priority
+        /// (WorkerPool.h): they use only cores the frame thread and the rest of the system
+        /// leave idle, so a rebuild never delays a frame. false: normal priority (benchmarks).
+        bool idleHelpers = true;
         bool preview = true;  ///< publish a half-resolution preview of a new region first
         /// Called on the mesher thread with every set it publishes, after publishing (tests;
         /// a host that wants to wake its frame loop); waitIdle() also waits for it. Must not
@@ -143,7 +147,8 @@ class AsyncMesher {
     std::vector<double> mDelaysMs;
     size_t mPasses = 0, mCancelled = 0;
     std::exception_ptr mError;
-    std::atomic<bool> mCancel{false};  // a region change or stop is queued
+    std::atomic<bool> mCancel{false};      // a region change or stop is queued
+    std::unique_ptr<WorkerPool> mWorkers;  // rebuild loops of mPoly (null: serial)
     std::thread mThread;
 };
 

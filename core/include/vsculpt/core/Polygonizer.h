@@ -20,6 +20,7 @@
 #include "vsculpt/core/EvalField.h"
 #include "vsculpt/core/Mesh.h"
 #include "vsculpt/core/SkeletonStore.h"
+#include "vsculpt/core/WorkerPool.h"
 #include "vsculpt/core/Zoom.h"
 
 #include <array>
@@ -55,9 +56,8 @@ class Polygonizer {
     /// @pre region.n is a multiple of 16; the grid's integer coordinates fit in +-2^19.
     Polygonizer(const Sculpture& sculpture, const GridRegion& region, double relTolerance);
 
-    /// Polygonizes every block. `threaded`: spread blocks over the oneTBB pool (the result
-    /// is the same either way).
-    /// `cancel`: as in rebuildBlocks.
+    /// Polygonizes every block. `threaded`: spread blocks over oneTBB or the useWorkers pool (the
+    /// result is the same either way). `cancel`: as in rebuildBlocks.
     PolygonizeStats rebuildAll(bool threaded = true, const std::atomic<bool>* cancel = nullptr);
     /// Rebuilds the blocks whose cells touch `changedRegion` (object space, e.g. the union
     /// of EditResult::changedRegion since the last call).
@@ -94,6 +94,12 @@ class Polygonizer {
     size_t noteWrites(std::span<const SkeletonWrite> writes);
 
     const GridRegion& region() const { return mRegion; }
+
+    /// Runs this polygonizer's parallel loops on `pool` (not owned; must outlive its use)
+    /// instead of oneTBB's shared workers; nullptr: back to oneTBB. The async mesher hands its
+    /// idle-priority pool here.
+    void useWorkers(WorkerPool* pool) { mWorkers = pool; }
+    WorkerPool* workers() const { return mWorkers; }
 
     /// Validation mode (`vsculpt play --check`): polygonizes everything afresh and compares
     /// with the incrementally maintained mesh. Empty when identical, else the first
@@ -141,6 +147,7 @@ class Polygonizer {
 
     const Sculpture& mSculpture;
     GridRegion mRegion;
+    WorkerPool* mWorkers = nullptr;
     double mTolerance;  // mm
     int mBlocksPerAxis;
     std::vector<BlockMesh> mBlocks;

@@ -5,6 +5,7 @@
 #include "vsculpt/app/CliChecks.h"
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/app/XrWindow.h"
+#include "vsculpt/core/DurationHistogram.h"
 #include "vsculpt/core/Project.h"
 #include "vsculpt/core/WriteFileAtomically.h"
 #include "vsculpt/render/UiLayer.h"
@@ -111,8 +112,9 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
     double depthOffset = 0;  // mm along the pointer ray, from the scroll wheel
     size_t commandIndex = 0, frame = 0;
     double frameMs = 0;
-    // For the closing summary: every frame's wall time and how far the mesh trailed each edit.
-    std::vector<double> frameTimes, meshLag;
+    // For the closing summary: frame wall times and how far the mesh trailed each edit, in
+    // fixed memory however long the session runs.
+    core::DurationHistogram frameTimes, meshLag;
     bool running = true;
     Vec3 toolWorld(0.0);
     // The preferences panel shows and edits the mode in use (--stereo included).
@@ -384,9 +386,9 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         viewer->swap();
         frameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                       .count();
-        frameTimes.push_back(frameMs);
+        frameTimes.add(frameMs);
         for (double ms : rig->studio().takePublishDelaysMs())
-            meshLag.push_back(ms);
+            meshLag.add(ms);
         char title[256];
         std::snprintf(
             title, sizeof title,
@@ -422,19 +424,14 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
     }
     if (rig->devices() && !rig->devices()->counters().empty())
         logLines(spdlog::level::info, rig->devices()->summary());
-    auto quantileMs = [](std::vector<double> v, double q) {
-        if (v.empty()) return 0.0;
-        std::sort(v.begin(), v.end());
-        return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
-    };
     spdlog::info("{} frame(s), {} skeletons, frame p50 {}, p99 {}", frame,
                  rig->session().sculpture().counts().total(),
-                 formatDuration(quantileMs(frameTimes, 0.5) / 1000),
-                 formatDuration(quantileMs(frameTimes, 0.99) / 1000));
-    if (!meshLag.empty())
+                 formatDuration(frameTimes.quantile(0.5) / 1000),
+                 formatDuration(frameTimes.quantile(0.99) / 1000));
+    if (meshLag.count())
         spdlog::info("the mesh followed {} edit(s) by p50 {}, p99 {} (mesher thread)",
-                     meshLag.size(), formatDuration(quantileMs(meshLag, 0.5) / 1000),
-                     formatDuration(quantileMs(meshLag, 0.99) / 1000));
+                     meshLag.count(), formatDuration(meshLag.quantile(0.5) / 1000),
+                     formatDuration(meshLag.quantile(0.99) / 1000));
     return 0;
 }
 

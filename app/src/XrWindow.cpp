@@ -3,6 +3,7 @@
 
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/app/XrInput.h"
+#include "vsculpt/core/DurationHistogram.h"
 #include "vsculpt/core/Mesh.h"
 #include "vsculpt/core/WriteFileAtomically.h"
 #include "vsculpt/devices/Recording.h"
@@ -169,6 +170,8 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
     const auto pulseNs = int64_t(cfg.render.xr.hapticPulseMs * 1e6);
     size_t frames = 0, rendered = 0, commandIndex = 0, pulses = 0;
     double cpuMsTotal = 0;
+    // Frame times and how far the mesh trailed the edits, in fixed memory for hours at 90 Hz.
+    core::DurationHistogram frameTimes, meshLag;
     bool vibrating = false;
     std::string why;
     int code = 0;
@@ -272,6 +275,9 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                     .count();
             cpuMsTotal += frameMs;
+            frameTimes.add(frameMs);
+            for (double ms : rig->studio().takePublishDelaysMs())
+                meshLag.add(ms);
             if (o.frames > 0 && frames >= size_t(o.frames)) xr->requestExit();
             if (frames % 45 == 1) {
                 char title[160];
@@ -300,9 +306,13 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
     }
     const Session& s = rig->session();
     spdlog::info(
-        "openxr: {} frame(s), {} with both eyes drawn, {:.2f} ms CPU per frame, {} haptic "
-        "pulse(s), {} debug message(s)",
-        frames, rendered, frames ? cpuMsTotal / double(frames) : 0.0, pulses, xr->debugMessages());
+        "openxr: {} frame(s), {} with both eyes drawn, {:.2f} ms CPU per frame (p99 {:.2f} ms), "
+        "{} haptic pulse(s), {} debug message(s)",
+        frames, rendered, frames ? cpuMsTotal / double(frames) : 0.0, frameTimes.quantile(0.99),
+        pulses, xr->debugMessages());
+    if (meshLag.count())
+        spdlog::info("the mesh followed {} edit(s) by p50 {:.1f} ms, p99 {:.1f} ms (mesher thread)",
+                     meshLag.count(), meshLag.quantile(0.5), meshLag.quantile(0.99));
     const core::RigidTransform pose = s.objectPose();
     spdlog::info(
         "object pose: rotation ({:.6f} {:.6f} {:.6f} {:.6f}), translation ({:.3f} {:.3f} "

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <iterator>
 #include <utility>
 
@@ -187,9 +188,15 @@ void AsyncMesher::publish(std::shared_ptr<const MeshChunks> set) {
         if (mPublished->complete) {
             const auto now = Clock::now();
             auto it = mInFlight.begin();
-            for (; it != mInFlight.end() && it->first <= mPublished->edits; ++it)
+            for (; it != mInFlight.end() && it->first <= mPublished->edits; ++it) {
+                // A host that never takes them (a session of hours) must not grow: the older
+                // half goes when the list is full.
+                if (mDelaysMs.size() >= std::max<size_t>(1, mOptions.maxKeptDelays))
+                    mDelaysMs.erase(mDelaysMs.begin(),
+                                    mDelaysMs.begin() + std::ptrdiff_t(mDelaysMs.size() / 2 + 1));
                 mDelaysMs.push_back(
                     std::chrono::duration<double, std::milli>(now - it->second).count());
+            }
             mInFlight.erase(mInFlight.begin(), it);
         }
     }

@@ -158,6 +158,32 @@ TEST(AsyncMesher, EditsPostedDuringARebuildAreCoalescedIntoOnePass) {
     s.store().logWritesTo(nullptr);
 }
 
+TEST(AsyncMesher, PublishDelaysNobodyTakesStayBounded) {
+    // A host that never takes the delays (a headset session of hours) keeps at most
+    // maxKeptDelays of them, the latest.
+    const SculptConfig cfg = sphereConfig();
+    Sculpture s(cfg);
+    std::vector<SkeletonWrite> writes;
+    s.store().logWritesTo(&writes);
+    AsyncMesher::Options o;
+    o.maxKeptDelays = 8;
+    AsyncMesher mesher(s, zoomRegion(cfg, s.levels(), 1, Vec3(0.0)), cfg.polygonizer.rootTolerance,
+                       o);
+    StrokeBuilder builder(s, ToolOp::Add, 6);
+    int edits = 0;
+    for (const Vec3& p : linePath(Vec3(-20, 0, 28), Vec3(20, 5, 28), 2.0)) {
+        const EditResult r = builder.addSample(p);
+        mesher.post(std::exchange(writes, {}), r.changedPoints, r.supportMm);
+        mesher.waitIdle();  // one published set, one delay, per edit
+        ++edits;
+    }
+    ASSERT_GT(edits, 16);
+    const size_t kept = mesher.takePublishDelaysMs().size();
+    EXPECT_LE(kept, 8u);
+    EXPECT_GE(kept, 4u);
+    s.store().logWritesTo(nullptr);
+}
+
 TEST(AsyncMesher, ARegionChangeSupersedesTheOneBefore) {
     const SculptConfig cfg = sphereConfig();
     Sculpture s(cfg);

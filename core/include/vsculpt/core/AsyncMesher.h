@@ -31,6 +31,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <cstddef>
 #include <cstdint>
 #include <exception>
 #include <functional>
@@ -57,6 +58,9 @@ class AsyncMesher {
         /// (WorkerPool.h): they use only cores the frame thread and the rest of the system
         /// leave idle, so a rebuild never delays a frame. false: normal priority (benchmarks).
         bool idleHelpers = true;
+        /// How many publish delays are kept for takePublishDelaysMs (memory stays bounded in
+        /// a session that never takes them).
+        size_t maxKeptDelays = size_t(1) << 16;
         bool preview = true;  ///< publish a half-resolution preview of a new region first
         /// Called on the mesher thread with every set it publishes, after publishing (tests;
         /// a host that wants to wake its frame loop); waitIdle() also waits for it. Must not
@@ -97,7 +101,8 @@ class AsyncMesher {
     std::string verifyAgainstFullRebuild();
 
     /// Milliseconds from each edit's post() to the first complete set that holds it, for the
-    /// edits published since the last call (benchmarks, `--stats`).
+    /// edits published since the last call (benchmarks, `--stats`): at most
+    /// Options::maxKeptDelays, the latest (when the list is full its older half is dropped).
     std::vector<double> takePublishDelaysMs();
     /// While held, posted jobs wait in the queue and are taken together on release (a host
     /// batching a burst of edits; tests of coalescing). waitIdle() must not be called while

@@ -221,6 +221,10 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
         return 2;
     }
     Studio& studio = rig->studio();
+    // Nothing looks at the mesh between edits unless --check compares it or --stats times it
+    // (edit_ms includes the mesh update): the mesh is then brought up to date once, when the
+    // shot, a sketch projection or the end asks for it.
+    if (!o.check && o.statsPath.empty()) studio.setDeferredMeshing(true);
     const Session* session = &studio.session();
     if (!session->recoveryWarning().empty()) spdlog::warn("{}", session->recoveryWarning());
     if (session->recoveredEdits() > 0)

@@ -95,6 +95,9 @@ int runRenderStill(const RenderOptions& o, std::ostream& out, std::ostream& err)
             const Script script = loadScript(o.input);
             // Through a studio, so sketch commands build their solids here too.
             studio = std::make_unique<Studio>(cfg);
+            // The still is ray-traced from a mesh of its own: the view is never looked at,
+            // unless a sketch projects onto it (then it is caught up).
+            studio->setDeferredMeshing(true);
             installProjector(*studio);
             for (const ScriptCommand& c : script.commands) {
                 try {

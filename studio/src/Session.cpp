@@ -6,9 +6,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 
 namespace vsculpt::studio {
 
@@ -127,15 +129,55 @@ void Session::rebuildView() {
         return;
     }
     mWrites.clear();  // the new view starts from the sculpture as it is
+    ++mViewChanges;
+    if (mDeferred) {
+        mViewRegionStale = true;
+        mDirtyBlocks.clear();
+        return;
+    }
     mView = std::make_unique<Polygonizer>(*mSculpture, mRegion, mConfig.polygonizer.rootTolerance);
     mView->rebuildAll();
+}
+
+void Session::setDeferredMeshing(bool on) {
+    if (on == mDeferred) return;
+    if (!on) catchUpView();
+    mDeferred = on;
+}
+
+void Session::catchUpView() const {
+    if (mMesher) return;
+    if (mViewRegionStale || !mView) {
+        mView =
+            std::make_unique<Polygonizer>(*mSculpture, mRegion, mConfig.polygonizer.rootTolerance);
+        mView->rebuildAll();
+    } else if (!mDirtyBlocks.empty()) {
+        // Its kept grid sums missed the writes: the polygonizer notices and evaluates afresh.
+        mView->rebuildBlocks(mDirtyBlocks);
+    }
+    mViewRegionStale = false;
+    mDirtyBlocks.clear();
+}
+
+void Session::markDirty(std::vector<std::array<int, 3>> blocks) {
+    mWrites.clear();
     ++mViewChanges;
+    if (mViewRegionStale) return;  // the whole region is rebuilt anyway
+    std::vector<std::array<int, 3>> merged;
+    merged.reserve(mDirtyBlocks.size() + blocks.size());
+    std::set_union(mDirtyBlocks.begin(), mDirtyBlocks.end(), blocks.begin(), blocks.end(),
+                   std::back_inserter(merged));
+    mDirtyBlocks = std::move(merged);
 }
 
 void Session::meshChanged(std::span<const Vec3> points, double radius) {
     if (mMesher) {
         mMesher->post(std::exchange(mWrites, {}), std::vector<Vec3>(points.begin(), points.end()),
                       radius);
+        return;
+    }
+    if (mDeferred) {
+        markDirty(mViewRegionStale ? Polygonizer::BlockList{} : mView->blocksNear(points, radius));
         return;
     }
     mView->noteWrites(std::exchange(mWrites, {}));
@@ -146,6 +188,10 @@ void Session::meshChanged(std::span<const Vec3> points, double radius) {
 void Session::meshChanged(const Aabb& box) {
     if (mMesher) {
         mMesher->post(std::exchange(mWrites, {}), box);
+        return;
+    }
+    if (mDeferred) {
+        markDirty(mViewRegionStale ? Polygonizer::BlockList{} : mView->blocksTouching(box));
         return;
     }
     mView->noteWrites(std::exchange(mWrites, {}));
@@ -169,12 +215,14 @@ void Session::setAsyncMeshing(bool on) {
 }
 
 const Polygonizer& Session::view() const {
-    if (!mView) throw std::logic_error("Session::view() with async meshing on: draw published()");
+    if (mMesher) throw std::logic_error("Session::view() with async meshing on: draw published()");
+    catchUpView();
     return *mView;
 }
 
 std::shared_ptr<const MeshChunks> Session::published() const {
     if (mMesher) return mMesher->published();
+    catchUpView();
     if (!mSyncPublished || mSyncPublishedAt != mViewChanges) {
         auto set = std::const_pointer_cast<MeshChunks>(publishChunks(*mView, mSyncPublished.get()));
         set->edits = mViewChanges;
@@ -455,7 +503,9 @@ void Session::save() {
 }
 
 std::string Session::verifyMesh() const {
-    return mMesher ? mMesher->verifyAgainstFullRebuild() : mView->verifyAgainstFullRebuild();
+    if (mMesher) return mMesher->verifyAgainstFullRebuild();
+    catchUpView();
+    return mView->verifyAgainstFullRebuild();
 }
 
 Mesh Session::wholeMesh(double spacing) const {

@@ -88,6 +88,39 @@ TEST(Session, AsyncMeshingEndsWhereSyncMeshingEnds) {
     EXPECT_EQ(viewHash(async), viewHash(sync));
 }
 
+TEST(Session, DeferredMeshingEndsWhereMeshingEveryEditEnds) {
+    Session now(smallConfig()), later(smallConfig());
+    later.setDeferredMeshing(true);
+    EXPECT_TRUE(later.deferredMeshing());
+    for (Session* s : {&now, &later}) {
+        sculptSome(*s, 6, 3);
+        // Looked at midway: brought up to date, then deferred again.
+        EXPECT_EQ(s->verifyMesh(), "");
+        sculptSome(*s, 3, 5);
+        s->setZoom(3, Vec3(0, 0, 30));
+        s->setSize(4);
+        s->stroke({Vec3(-3, 0, 30), Vec3(3, 1, 30)}, false);
+        s->undo();
+        s->redo();
+        s->undo();
+        EXPECT_THROW(s->stroke({Vec3(0, 0, 30), Vec3(2, 0, 30), Vec3(1e7, 0, 0)}, false),
+                     SessionError);
+        s->setZoom(1, Vec3(0.0));
+        sculptSome(*s, 2, 4);
+        s->undo();
+    }
+    EXPECT_EQ(later.region(), now.region());
+    EXPECT_EQ(core::canonicalMeshHash(later.published()->merged()), viewHash(now));
+    EXPECT_EQ(viewHash(later), viewHash(now));
+    EXPECT_EQ(later.verifyMesh(), "");
+    // Edits after a look, then switched off: the mesh is current before the call returns.
+    sculptSome(now, 2, 6);
+    sculptSome(later, 2, 6);
+    later.setDeferredMeshing(false);
+    EXPECT_EQ(viewHash(later), viewHash(now));
+    EXPECT_EQ(later.verifyMesh(), "");
+}
+
 TEST(Session, SizesFollowTheZoomTable) {
     Session s(smallConfig());
     EXPECT_THROW(s.setSize(3), SessionError);  // zoom 1 offers 7, 6, 5

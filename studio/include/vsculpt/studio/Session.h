@@ -18,6 +18,7 @@
 #include "vsculpt/core/Sculpture.h"
 #include "vsculpt/studio/Script.h"
 
+#include <array>
 #include <chrono>
 #include <filesystem>
 #include <memory>
@@ -127,6 +128,14 @@ class Session {
     /// tests, exports). Switching keeps the mesh.
     void setAsyncMeshing(bool on);
     bool asyncMeshing() const { return mMesher != nullptr; }
+    /// Without async meshing: edits only mark what they dirty, and the mesh is brought up to
+    /// date when something asks for it (view(), published(), verifyMesh()), in one rebuild of
+    /// every block dirtied since (the same mesh: partial == full). For headless runs that
+    /// look at the mesh once, at the end (`vsculpt play` without --check or --stats): a
+    /// sample then costs its placement only. Off: every edit updates view() before it
+    /// returns. Ignored while async meshing is on.
+    void setDeferredMeshing(bool on);
+    bool deferredMeshing() const { return mDeferred; }
     /// What to draw (never null). Async: the mesher's last published set, which may lag the
     /// edits by a rebuild (or show a coarse preview after a zoom change). Otherwise view()'s
     /// chunks, current with every edit.
@@ -167,6 +176,8 @@ class Session {
     /// The mesh follows an edit: f changed within `radius` of the points, or in the box.
     void meshChanged(std::span<const core::Vec3> points, double radius);
     void meshChanged(const core::Aabb& box);
+    /// Deferred meshing: an edit dirtied these blocks of mView (sorted).
+    void markDirty(std::vector<std::array<int, 3>> blocks);
     /// A stroke's edit (a sample, or its held-back changes at the end) reaches the mesh; the
     /// time since t0 (placement included) is recorded as a sample time.
     void strokeEdited(const core::EditResult& r, std::chrono::steady_clock::time_point t0);
@@ -176,10 +187,17 @@ class Session {
     core::SculptConfig mConfig;
     std::unique_ptr<core::Sculpture> mSculpture;
     core::GridRegion mRegion;
-    std::unique_ptr<core::Polygonizer> mView;    // without async meshing
-    std::unique_ptr<core::AsyncMesher> mMesher;  // with it
-    std::vector<core::SkeletonWrite> mWrites;    // writes not yet given to the mesher or view
-    uint64_t mViewChanges = 0;                   // sync: view() updates so far
+    /// The mesh is brought up to date (deferred meshing) before view() and published().
+    void catchUpView() const;
+    mutable std::unique_ptr<core::Polygonizer> mView;  // without async meshing
+    std::unique_ptr<core::AsyncMesher> mMesher;        // with it
+    std::vector<core::SkeletonWrite> mWrites;          // writes not yet given to the mesher or view
+    mutable uint64_t mViewChanges = 0;                 // sync: view() updates so far
+    bool mDeferred = false;
+    // Deferred meshing: blocks of mView dirtied since it was last brought up to date (sorted),
+    // or the whole region when it changed (zoom).
+    mutable std::vector<std::array<int, 3>> mDirtyBlocks;
+    mutable bool mViewRegionStale = false;
     mutable std::shared_ptr<const core::MeshChunks> mSyncPublished;
     mutable uint64_t mSyncPublishedAt = ~uint64_t(0);
     core::History mHistory;

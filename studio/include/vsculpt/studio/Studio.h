@@ -65,6 +65,8 @@ class Studio {
 
     /// Session::setAsyncMeshing (the windows turn it on).
     void setAsyncMeshing(bool on) { mSession->setAsyncMeshing(on); }
+    /// Session::setDeferredMeshing (`vsculpt play` when nothing looks at the mesh per edit).
+    void setDeferredMeshing(bool on) { mSession->setDeferredMeshing(on); }
     /// Session::takePublishDelaysMs (how far the mesh trailed the edits).
     std::vector<double> takePublishDelaysMs() { return mSession->takePublishDelaysMs(); }
 

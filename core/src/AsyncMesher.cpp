@@ -59,12 +59,12 @@ AsyncMesher::AsyncMesher(const Sculpture& sculpture, const GridRegion& region, d
     first->complete = true;
     mPublished = std::move(first);
     if (mOptions.threaded) {
-        // The mesher's own thread (normal priority) and helpers for the other cores at idle
-        // priority: they take only cores nothing else wants, so the frame thread never waits
-        // for a core behind a rebuild, and a rebuild still uses every core the frame leaves.
+        // The mesher's own thread (normal priority) and helpers for the other cores at a lower
+        // priority: a waking frame thread takes a core from them at once, and a rebuild still
+        // uses every core the frame leaves.
         const int threads =
             mOptions.threads > 0 ? mOptions.threads : tbb::info::default_concurrency();
-        mWorkers = std::make_unique<WorkerPool>(threads - 1, mOptions.idleHelpers);
+        mWorkers = std::make_unique<WorkerPool>(threads - 1, mOptions.helperNice);
         mPoly->useWorkers(mWorkers.get());
     }
     mThread = std::thread([this] { run(); });

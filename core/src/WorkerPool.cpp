@@ -9,8 +9,10 @@
 #include <utility>
 
 #if defined(__linux__)
-#include <pthread.h>
-#include <sched.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <cerrno>
 #endif
 
 namespace vsculpt::core {
@@ -19,24 +21,29 @@ namespace {
 
 thread_local bool tInsideBody = false;
 
-bool lowerToIdlePriority() {
-#if defined(__linux__) && defined(SCHED_IDLE)
-    sched_param param{};
-    param.sched_priority = 0;
-    return pthread_setschedparam(pthread_self(), SCHED_IDLE, &param) == 0;
+/// Lowers the calling thread's priority by `niceIncrement` nice steps (Linux: nice is per
+/// thread). Always allowed: only raising priority needs privileges.
+bool lowerPriority(int niceIncrement) {
+#if defined(__linux__)
+    const id_t tid = id_t(gettid());
+    errno = 0;
+    const int now = getpriority(PRIO_PROCESS, tid);
+    if (errno != 0) return false;
+    return setpriority(PRIO_PROCESS, tid, std::min(19, now + niceIncrement)) == 0;
 #else
+    (void)niceIncrement;
     return false;
 #endif
 }
 
 }  // namespace
 
-WorkerPool::WorkerPool(int helpers, bool idlePriority) : mIdle(idlePriority) {
+WorkerPool::WorkerPool(int helpers, int niceIncrement) : mLowered(niceIncrement > 0) {
     mThreads.reserve(size_t(std::max(0, helpers)));
     for (int i = 0; i < helpers; ++i)
-        mThreads.emplace_back([this, idlePriority] { helperLoop(idlePriority); });
+        mThreads.emplace_back([this, niceIncrement] { helperLoop(niceIncrement); });
     std::unique_lock lock(mMutex);
-    mDone.wait(lock, [&] { return mIdleSet == int(mThreads.size()); });
+    mDone.wait(lock, [&] { return mStarted == int(mThreads.size()); });
 }
 
 WorkerPool::~WorkerPool() {
@@ -49,12 +56,12 @@ WorkerPool::~WorkerPool() {
         t.join();
 }
 
-void WorkerPool::helperLoop(bool idlePriority) {
-    const bool idle = idlePriority && lowerToIdlePriority();
+void WorkerPool::helperLoop(int niceIncrement) {
+    const bool lowered = niceIncrement > 0 && lowerPriority(niceIncrement);
     uint64_t seen = 0;
     std::unique_lock lock(mMutex);
-    if (!idle) mIdle = false;
-    ++mIdleSet;
+    if (!lowered) mLowered = false;
+    ++mStarted;
     mDone.notify_all();
     for (;;) {
         mWake.wait(lock, [&] { return mStop || mLoop != seen; });

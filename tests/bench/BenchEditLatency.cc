@@ -702,12 +702,12 @@ BENCHMARK(BM_FrameLoop)
 /// published set holding the sample, and how many rebuild passes the stroke took (fewer than
 /// samples: coalesced).
 /// The mesher's threads for A/B runs: VSCULPT_BENCH_MESHER_THREADS=N (the mesher's own
-/// included; stop 21 used every core but one), VSCULPT_BENCH_MESHER_NORMAL=1 (helpers at
-/// normal priority instead of idle).
+/// included; stop 21 used every core but one), VSCULPT_BENCH_MESHER_NICE=N (the helpers' nice
+/// steps below the frame; default AsyncMesher::kHelperNice, 0 = the same priority).
 AsyncMesher::Options benchMesherOptions() {
     AsyncMesher::Options o;
     if (const char* n = std::getenv("VSCULPT_BENCH_MESHER_THREADS")) o.threads = std::atoi(n);
-    o.idleHelpers = !std::getenv("VSCULPT_BENCH_MESHER_NORMAL");
+    if (const char* n = std::getenv("VSCULPT_BENCH_MESHER_NICE")) o.helperNice = std::atoi(n);
     return o;
 }
 

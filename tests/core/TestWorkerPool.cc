@@ -12,38 +12,41 @@
 #include <vector>
 
 #if defined(__linux__)
-#include <pthread.h>
-#include <sched.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <cerrno>
 #endif
 
 using vsculpt::core::WorkerPool;
 
 namespace {
 
-int policyOfThisThread() {
+/// The calling thread's nice value (Linux: per thread); 0 elsewhere.
+int niceOfThisThread() {
 #if defined(__linux__)
-    int policy = -1;
-    sched_param p{};
-    pthread_getschedparam(pthread_self(), &policy, &p);
-    return policy;
+    errno = 0;
+    const int n = getpriority(PRIO_PROCESS, id_t(gettid()));
+    EXPECT_EQ(errno, 0);
+    return n;
 #else
-    return -1;
+    return 0;
 #endif
 }
 
 /// Runs a loop whose first piece on the calling thread waits until a helper has run a piece:
 /// proves that helpers take part (the loop would hang, and fail after 30 s, otherwise).
-/// Returns the scheduling policy each helper piece ran under.
-std::vector<int> helperPolicies(WorkerPool& pool) {
+/// Returns the nice value each helper piece ran at.
+std::vector<int> helperNices(WorkerPool& pool) {
     const auto caller = std::this_thread::get_id();
     std::mutex m;
     std::condition_variable cv;
     bool helped = false, timedOut = false;
-    std::vector<int> policies;
+    std::vector<int> nices;
     pool.parallelFor(64, 1, [&](size_t, size_t) {
         std::unique_lock lock(m);
         if (std::this_thread::get_id() != caller) {
-            policies.push_back(policyOfThisThread());
+            nices.push_back(niceOfThisThread());
             helped = true;
             cv.notify_all();
         } else if (!helped) {
@@ -51,7 +54,7 @@ std::vector<int> helperPolicies(WorkerPool& pool) {
         }
     });
     EXPECT_FALSE(timedOut) << "no helper ran a piece";
-    return policies;
+    return nices;
 }
 
 }  // namespace
@@ -60,7 +63,7 @@ TEST(WorkerPool, EveryIndexRunsExactlyOnceInPiecesOfAtMostTheGrain) {
     for (int helpers : {0, 1, 3})
         for (size_t n : {size_t(0), size_t(1), size_t(7), size_t(1000)})
             for (size_t grain : {size_t(1), size_t(3), size_t(64)}) {
-                WorkerPool pool(helpers, true);
+                WorkerPool pool(helpers, 5);
                 std::vector<std::atomic<int>> runs(n);
                 std::atomic<bool> tooBig{false};
                 pool.parallelFor(n, grain, [&](size_t b, size_t e) {
@@ -77,7 +80,7 @@ TEST(WorkerPool, EveryIndexRunsExactlyOnceInPiecesOfAtMostTheGrain) {
 
 TEST(WorkerPool, ManyLoopsInARowEachCoverTheirRange) {
     // Helpers that wake late for one loop must not run pieces of it after it returned.
-    WorkerPool pool(3, true);
+    WorkerPool pool(3, 5);
     for (int loop = 0; loop < 2000; ++loop) {
         const size_t n = size_t(1 + loop % 37);
         std::vector<int> runs(n, 0);
@@ -90,29 +93,29 @@ TEST(WorkerPool, ManyLoopsInARowEachCoverTheirRange) {
     }
 }
 
-TEST(WorkerPool, HelpersRunAtIdlePriorityAndTheCallerKeepsItsOwn) {
-    const int before = policyOfThisThread();
-    WorkerPool pool(2, true);
-    const std::vector<int> policies = helperPolicies(pool);
-    ASSERT_FALSE(policies.empty());
-#if defined(__linux__) && defined(SCHED_IDLE)
-    ASSERT_TRUE(pool.idlePriority());
-    for (int p : policies)
-        EXPECT_EQ(p, SCHED_IDLE);
+TEST(WorkerPool, HelpersRunBelowTheCallersPriorityAndTheCallerKeepsItsOwn) {
+    const int before = niceOfThisThread();
+    WorkerPool pool(2, 5);
+    const std::vector<int> nices = helperNices(pool);
+    ASSERT_FALSE(nices.empty());
+#if defined(__linux__)
+    ASSERT_TRUE(pool.lowered());
+    for (int n : nices)
+        EXPECT_EQ(n, std::min(19, before + 5));
 #endif
-    EXPECT_EQ(policyOfThisThread(), before);
+    EXPECT_EQ(niceOfThisThread(), before);
 }
 
-TEST(WorkerPool, HelpersAtNormalPriorityWhenAskedTo) {
-    WorkerPool pool(2, false);
-    EXPECT_FALSE(pool.idlePriority());
-    const int mine = policyOfThisThread();
-    for (int p : helperPolicies(pool))
-        EXPECT_EQ(p, mine);
+TEST(WorkerPool, HelpersAtTheCallersPriorityWhenAskedTo) {
+    WorkerPool pool(2, 0);
+    EXPECT_FALSE(pool.lowered());
+    const int mine = niceOfThisThread();
+    for (int n : helperNices(pool))
+        EXPECT_EQ(n, mine);
 }
 
 TEST(WorkerPool, AnExceptionReachesTheCallerAndEveryOtherPieceStillRuns) {
-    WorkerPool pool(2, true);
+    WorkerPool pool(2, 5);
     std::vector<std::atomic<int>> runs(100);
     EXPECT_THROW(pool.parallelFor(100, 1,
                                   [&](size_t b, size_t) {
@@ -129,7 +132,7 @@ TEST(WorkerPool, AnExceptionReachesTheCallerAndEveryOtherPieceStillRuns) {
 }
 
 TEST(WorkerPool, ALoopInsideABodyRunsWholeOnItsThread) {
-    WorkerPool pool(2, true);
+    WorkerPool pool(2, 5);
     std::vector<std::atomic<int>> inner(8 * 16);
     std::atomic<bool> moved{false};
     pool.parallelFor(8, 1, [&](size_t b, size_t) {

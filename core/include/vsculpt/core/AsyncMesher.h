@@ -50,14 +50,17 @@ class WorkerPool;
 
 class AsyncMesher {
   public:
+    /// Nice steps of the mesher's helpers below the frame (measured, docs/benchmarks.md stop
+    /// 22: +5 keeps the frame's wall time near what SCHED_IDLE gave without its inversion).
+    static constexpr int kHelperNice = 5;
     struct Options {
         bool threaded = true;  ///< spread each rebuild over the mesher's own worker threads
         /// How many, the mesher thread included: 0 = one per core.
         int threads = 0;
-        /// Helpers (every thread but the mesher's) run at the system's idle priority
-        /// (WorkerPool.h): they use only cores the frame thread and the rest of the system
-        /// leave idle, so a rebuild never delays a frame. false: normal priority (benchmarks).
-        bool idleHelpers = true;
+        /// Helpers (every thread but the mesher's) run this many nice steps below the thread
+        /// that creates the mesher (WorkerPool.h): a waking frame thread preempts them at once,
+        /// and they still get a share of a core when every core is busy. 0: the same priority.
+        int helperNice = kHelperNice;
         /// How many publish delays are kept for takePublishDelaysMs (memory stays bounded in
         /// a session that never takes them).
         size_t maxKeptDelays = size_t(1) << 16;

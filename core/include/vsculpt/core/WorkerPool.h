@@ -1,18 +1,24 @@
 // SPDX-License-Identifier: MIT
 /// @file WorkerPool.h
-/// @brief Threads of one's own for background work that must never take a core from the
-/// frame: helpers run at the operating system's idle priority (Linux SCHED_IDLE).
+/// @brief Threads of one's own for background work that should yield to the frame: helpers
+/// run at a lower priority (a higher nice value, Linux per-thread nice).
 ///
 /// Why not oneTBB's workers: they are shared by every arena in the process, and an
-/// unprivileged thread cannot return from idle priority (Linux needs RLIMIT_NICE >= 20 or
-/// CAP_SYS_NICE), so lowering them would slow sketch solids, exports and stills too, and a
-/// task such a worker steals could hold up its joiner (priority inversion). A pool owns its
-/// threads: only work handed to it runs at idle priority.
+/// unprivileged thread cannot raise its priority again (Linux needs RLIMIT_NICE or
+/// CAP_SYS_NICE), so lowering them would slow sketch solids, exports and stills too. A pool
+/// owns its threads: only work handed to it runs at the lower priority.
+///
+/// Why a nice value and not SCHED_IDLE: a helper preempted in the middle of a piece holds up
+/// the caller until it runs again (priority inversion). At SCHED_IDLE, with every core busy
+/// at normal priority (a software-rendered window, a build beside it), that took seconds:
+/// the mesh trailed the tool by 1.4 s (p50) instead of 49 ms. Nice +5 keeps a quarter of a
+/// contended core's share, so the wait stays a few pieces long, while a waking frame thread
+/// still preempts a helper at once (docs/benchmarks.md, stop 22).
 ///
 /// The calling thread takes part at its own priority, so a parallelFor always progresses at
 /// least as fast as a serial loop on the caller; helpers add whatever cores the frame and the
 /// rest of the system leave unused. Ranges are handed out in `grain`-sized pieces: a helper
-/// that the scheduler starves holds up the caller by at most one piece.
+/// holds up the caller by at most the piece it is in.
 #pragma once
 
 #include <condition_variable>
@@ -30,10 +36,10 @@ class WorkerPool {
     /// Body of a parallel loop: processes indices [begin, end).
     using Body = std::function<void(size_t begin, size_t end)>;
 
-    /// Starts `helpers` threads (0: the caller works alone). `idlePriority`: helpers ask for
-    /// SCHED_IDLE; where the system refuses (or is not Linux) they stay at normal priority and
-    /// idlePriority() says so.
-    WorkerPool(int helpers, bool idlePriority);
+    /// Starts `helpers` threads (0: the caller works alone), each `niceIncrement` nice steps
+    /// below the creating thread (0: the same priority; capped at nice 19). Where the system
+    /// refuses (or is not Linux) they stay at the creator's priority and lowered() says so.
+    WorkerPool(int helpers, int niceIncrement);
     ~WorkerPool();
     WorkerPool(const WorkerPool&) = delete;
     WorkerPool& operator=(const WorkerPool&) = delete;
@@ -45,19 +51,19 @@ class WorkerPool {
     void parallelFor(size_t n, size_t grain, const Body& body);
 
     int helpers() const { return int(mThreads.size()); }
-    /// Whether every helper runs at idle priority.
-    bool idlePriority() const { return mIdle; }
+    /// Whether every helper runs at the lowered priority (false when none was asked for).
+    bool lowered() const { return mLowered; }
 
   private:
-    void helperLoop(bool idlePriority);
+    void helperLoop(int niceIncrement);
     void work();  // takes pieces of the current loop until none is left
 
     std::mutex mRun;  // one loop at a time
     std::mutex mMutex;
     std::condition_variable mWake, mDone;
     std::vector<std::thread> mThreads;
-    bool mIdle = true;
-    int mIdleSet = 0;  // helpers that reported their priority (constructor waits for all)
+    bool mLowered = true;
+    int mStarted = 0;  // helpers that set their priority (the constructor waits for all)
     bool mStop = false;
     uint64_t mLoop = 0;  // number of the current loop (helpers join each loop once)
     const Body* mBody = nullptr;

@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#include <iterator>
 #include <utility>
 
 namespace vsculpt::core {
@@ -31,18 +30,6 @@ GridRegion previewRegion(const GridRegion& r) {
     p.n = (cells + Polygonizer::kChunkCells - 1) / Polygonizer::kChunkCells *
           Polygonizer::kChunkCells;
     return p;
-}
-
-void mergeSorted(std::vector<std::array<int, 3>>& into, std::vector<std::array<int, 3>> more) {
-    if (more.empty()) return;
-    if (into.empty()) {
-        into = std::move(more);
-        return;
-    }
-    std::vector<std::array<int, 3>> out;
-    out.reserve(into.size() + more.size());
-    std::set_union(into.begin(), into.end(), more.begin(), more.end(), std::back_inserter(out));
-    into = std::move(out);
 }
 
 }  // namespace
@@ -269,9 +256,9 @@ void AsyncMesher::loop() {
                 mPending = mPoly->rebuildAll(mOptions.threaded, &mCancel).unfinished;
             } else {
                 for (const Job* j : dirty)
-                    mergeSorted(mPending, j->points.empty()
-                                              ? mPoly->blocksTouching(j->box)
-                                              : mPoly->blocksNear(j->points, j->radius));
+                    Polygonizer::mergeBlocks(
+                        mPending, j->points.empty() ? mPoly->blocksTouching(j->box)
+                                                    : mPoly->blocksNear(j->points, j->radius));
                 mPending = mPoly->rebuildBlocks(mPending, mOptions.threaded, &mCancel).unfinished;
             }
             if (!mPending.empty()) {

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <iterator>
 #include <optional>
 #include <stdexcept>
 #include <unordered_map>
@@ -413,6 +414,18 @@ size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
         }
     });
     return splats.combine(std::plus<size_t>());
+}
+
+void Polygonizer::mergeBlocks(BlockList& into, BlockList more) {
+    if (more.empty()) return;
+    if (into.empty()) {
+        into = std::move(more);
+        return;
+    }
+    BlockList out;
+    out.reserve(into.size() + more.size());
+    std::set_union(into.begin(), into.end(), more.begin(), more.end(), std::back_inserter(out));
+    into = std::move(out);
 }
 
 PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& blocks, bool threaded,

@@ -6,11 +6,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <iterator>
 
 namespace vsculpt::studio {
 
@@ -162,12 +160,7 @@ void Session::catchUpView() const {
 void Session::markDirty(std::vector<std::array<int, 3>> blocks) {
     mWrites.clear();
     ++mViewChanges;
-    if (mViewRegionStale) return;  // the whole region is rebuilt anyway
-    std::vector<std::array<int, 3>> merged;
-    merged.reserve(mDirtyBlocks.size() + blocks.size());
-    std::set_union(mDirtyBlocks.begin(), mDirtyBlocks.end(), blocks.begin(), blocks.end(),
-                   std::back_inserter(merged));
-    mDirtyBlocks = std::move(merged);
+    if (!mViewRegionStale) Polygonizer::mergeBlocks(mDirtyBlocks, std::move(blocks));
 }
 
 void Session::meshChanged(std::span<const Vec3> points, double radius) {

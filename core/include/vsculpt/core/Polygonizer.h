@@ -74,6 +74,9 @@ class Polygonizer {
     BlockList blocksNear(std::span<const Vec3> changedPoints, double radius) const;
     /// Blocks update(box) would rebuild, sorted.
     BlockList blocksTouching(const Aabb& changedRegion) const;
+    /// Adds `more` to `into` (both sorted, no duplicates; the result too): the dirty blocks
+    /// of edits taken together.
+    static void mergeBlocks(BlockList& into, BlockList more);
     /// Rebuilds the given blocks (sorted, no duplicates). `cancel` is read between blocks:
     /// once it is true the remaining blocks are skipped and listed in stats.unfinished.
     /// Every block that was rebuilt is exact; the mesh is consistent (mesh(), chunkMesh(),

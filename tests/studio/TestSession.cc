@@ -34,6 +34,19 @@ void sculptSome(Session& s, int strokes, unsigned seed) {
     }
 }
 
+/// Zooms in, strokes, undoes and redoes, has a sample refused (the whole stroke is rolled back,
+/// on an async mesher's replica too) and zooms out again.
+void zoomInStrokeAndUndo(Session& s) {
+    s.setZoom(3, Vec3(0, 0, 30));
+    s.setSize(4);
+    s.stroke({Vec3(-3, 0, 30), Vec3(3, 1, 30)}, false);
+    s.undo();
+    s.redo();
+    s.undo();
+    EXPECT_THROW(s.stroke({Vec3(0, 0, 30), Vec3(2, 0, 30), Vec3(1e7, 0, 0)}, false), SessionError);
+    s.setZoom(1, Vec3(0.0));
+}
+
 TEST(Session, UndoToTheStartAndRedoToTheEnd) {
     Session s(smallConfig());
     const uint64_t start = viewHash(s);
@@ -61,16 +74,7 @@ TEST(Session, AsyncMeshingEndsWhereSyncMeshingEnds) {
     EXPECT_THROW(async.view(), std::logic_error);  // the live polygonizer is the mesher's
     for (Session* s : {&sync, &async}) {
         sculptSome(*s, 6, 3);
-        s->setZoom(3, Vec3(0, 0, 30));
-        s->setSize(4);
-        s->stroke({Vec3(-3, 0, 30), Vec3(3, 1, 30)}, false);
-        s->undo();
-        s->redo();
-        s->undo();
-        // A refused sample rolls the stroke back on the mesher's replica too.
-        EXPECT_THROW(s->stroke({Vec3(0, 0, 30), Vec3(2, 0, 30), Vec3(1e7, 0, 0)}, false),
-                     SessionError);
-        s->setZoom(1, Vec3(0.0));
+        zoomInStrokeAndUndo(*s);
         sculptSome(*s, 2, 4);
     }
     async.waitForMesh();
@@ -97,15 +101,7 @@ TEST(Session, DeferredMeshingEndsWhereMeshingEveryEditEnds) {
         // Looked at midway: brought up to date, then deferred again.
         EXPECT_EQ(s->verifyMesh(), "");
         sculptSome(*s, 3, 5);
-        s->setZoom(3, Vec3(0, 0, 30));
-        s->setSize(4);
-        s->stroke({Vec3(-3, 0, 30), Vec3(3, 1, 30)}, false);
-        s->undo();
-        s->redo();
-        s->undo();
-        EXPECT_THROW(s->stroke({Vec3(0, 0, 30), Vec3(2, 0, 30), Vec3(1e7, 0, 0)}, false),
-                     SessionError);
-        s->setZoom(1, Vec3(0.0));
+        zoomInStrokeAndUndo(*s);
         sculptSome(*s, 2, 4);
         s->undo();
     }

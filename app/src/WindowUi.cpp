@@ -5,16 +5,20 @@
 
 #include "UiWidgets.h"
 #include "vsculpt/app/Rig.h"
+#include "vsculpt/core/PatchConfigText.h"
 #include "vsculpt/core/WriteFileAtomically.h"
 
 #include <imgui.h>
 #include <imgui_stdlib.h>
+#include <spdlog/spdlog.h>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>  // key codes (the UI's key map uses GLFW's)
 
 #include <algorithm>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 namespace vsculpt::app {
@@ -270,10 +274,11 @@ void preferencesPanel(UiState& state, core::SculptConfig& cfg, std::vector<UiAct
         if (target.empty())
             ImGui::TextUnformatted("no user config folder ($XDG_CONFIG_HOME and $HOME unset)");
         else
-            ImGui::Text("Save writes %s%s", target.c_str(),
-                        std::filesystem::exists(target, ec)
-                            ? " (replacing that file: its comments are not kept)"
-                            : "");
+            ImGui::Text(
+                "Save writes %s%s", target.c_str(),
+                std::filesystem::exists(target, ec)
+                    ? " (updating that file: only changed values are rewritten, its comments stay)"
+                    : "");
         if (!state.preferencesNote.empty()) ImGui::TextUnformatted(state.preferencesNote.c_str());
         ImGui::PopTextWrapPos();
         if (!target.empty() && button(state, "save preferences", false, "save preferences"))
@@ -418,7 +423,21 @@ std::filesystem::path savePreferences(const core::SculptConfig& cfg) {
     if (path.empty())
         throw std::runtime_error("no user config folder: $XDG_CONFIG_HOME and $HOME are unset");
     std::filesystem::create_directories(path.parent_path());
-    core::writeFileAtomically(path, core::configToJson(cfg) + "\n", true);
+    std::string text = core::configToJson(cfg) + "\n";
+    // A file the user keeps keeps its comments and layout: only the values that differ change.
+    if (std::ifstream in{path}) {
+        std::ostringstream was;
+        was << in.rdbuf();
+        try {
+            std::string patched = core::patchConfigText(was.str(), cfg, path.string());
+            if (core::configToJson(core::parseConfig(patched, path.string())) ==
+                core::configToJson(cfg))
+                text = std::move(patched);
+        } catch (const core::ConfigError& e) {
+            spdlog::warn("{}: replaced whole ({})", path.string(), e.what());
+        }
+    }
+    core::writeFileAtomically(path, text, true);
     return path;
 }
 

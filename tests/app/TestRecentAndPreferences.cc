@@ -165,6 +165,24 @@ TEST(Preferences, SavedAtomicallyAsTheUserConfigAndReadBack) {
     fs::remove_all(root);
 }
 
+TEST(Preferences, SavingOverAUsersFileKeepsItsComments) {
+    const fs::path root = freshDir("vsculpt-prefs-comments");
+    ScopedEnv config("XDG_CONFIG_HOME", root);
+    fs::create_directories(root / "vsculpt");
+    const std::string mine =
+        "// my settings\n{\n  \"render\": {\n    \"ipd_mm\": 63.0  // measured\n  }\n}\n";
+    { std::ofstream(root / "vsculpt" / "sculpt.json") << mine; }
+    core::SculptConfig cfg = core::loadConfig(root / "vsculpt" / "sculpt.json");
+    cfg.render.ipdMm = 61;
+    const fs::path written = app::savePreferences(cfg);
+    std::ifstream in(written);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(text,
+              "// my settings\n{\n  \"render\": {\n    \"ipd_mm\": 61.0  // measured\n  }\n}\n");
+    EXPECT_EQ(core::loadConfig(written).render.ipdMm, 61);
+    fs::remove_all(root);
+}
+
 TEST(Preferences, UiKeysAreValidated) {
     EXPECT_THROW(core::parseConfig(R"({"render": {"ui_scale": 9}})", "t.json"), core::ConfigError);
     EXPECT_THROW(core::parseConfig(R"({"render": {"ui_depth_mm": -1}})", "t.json"),

@@ -10,7 +10,6 @@
 #include "vsculpt/core/Sculpture.h"
 
 #include <cmath>
-#include <cstdlib>
 #include <numbers>
 #include <vector>
 
@@ -18,14 +17,10 @@ namespace vsculpt::test {
 
 using core::Vec3;
 
-/// An empty scene. VSCULPT_PLACEMENT_FINER=k sets placement.finer_lattice_levels (for the
-/// `CarveDepth.Print*` tables and costs at that setting; other tests expect the default).
 inline core::SculptConfig emptyConfig(core::PlacementMode mode) {
     core::SculptConfig cfg;
     cfg.sphereRadiusMm = 0;
     cfg.placement = mode;
-    if (const char* k = std::getenv("VSCULPT_PLACEMENT_FINER"))
-        cfg.finerLatticeLevels = std::atoi(k);
     return cfg;
 }
 

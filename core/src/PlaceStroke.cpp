@@ -194,17 +194,11 @@ StrokeBuilder::StrokeBuilder(Sculpture& sculpture, ToolOp op, int level, MirrorA
     : mSculpture(sculpture), mOp(op), mLevel(level), mMirror(mirror) {
     if (level < 1 || level > kLevelCount)
         throw std::invalid_argument("tool level " + std::to_string(level) + " outside 1..7");
-    // Swept strokes may place their weights on a finer lattice than the tool's: the change a
-    // tool makes to worked clay has the clay's detail, which the tool's own lattice cannot
-    // express (docs/placement.md, "What remains").
-    mLattice = sculpture.config().placement == PlacementMode::Swept && op != ToolOp::Smooth
-                   ? std::max(1, level - sculpture.config().finerLatticeLevels)
-                   : level;
     if (op == ToolOp::Smooth && sculpture.config().placement == PlacementMode::Thesis)
         throw std::invalid_argument(
             "the smooth tool needs placement mode \"free\" or \"swept\" (thesis mode has unit "
             "weights only)");
-    const ToolLevel& tl = sculpture.levels().level(mLattice);
+    const ToolLevel& tl = sculpture.levels().level(level);
     const int n = int(std::ceil(tl.supportMm / tl.spacingMm));
     const double r2 = tl.supportMm * tl.supportMm;
     for (int x = -n; x <= n; ++x)
@@ -251,7 +245,7 @@ StrokeBuilder::~StrokeBuilder() = default;
 double StrokeBuilder::preStrokeRawSum(const LatticeCoord& v, const Vec3& pos) {
     double raw = mProbe->rawSum(pos);
     if (mDeltas.empty()) return raw;
-    const ToolLevel& tl = mSculpture.levels().level(mLattice);
+    const ToolLevel& tl = mSculpture.levels().level(mLevel);
     const HermiteFalloff& F = mSculpture.levels().falloff();
     for (const LatticeCoord& o : mStencil) {
         auto it = mDeltas.find(LatticeCoord{v.x + o.x, v.y + o.y, v.z + o.z});
@@ -266,7 +260,7 @@ FieldSample StrokeBuilder::preStrokeSampleAt(const Vec3& pos) {
     FieldSample s = mProbe->sample(pos);
     s.value += mSculpture.levels().iso();
     if (mDeltas.empty()) return s;
-    const ToolLevel& tl = mSculpture.levels().level(mLattice);
+    const ToolLevel& tl = mSculpture.levels().level(mLevel);
     const HermiteFalloff& F = mSculpture.levels().falloff();
     const Vec3 q = pos / tl.spacingMm;
     const double r = tl.supportMm / tl.spacingMm;
@@ -290,7 +284,7 @@ FieldSample StrokeBuilder::preStrokeSample(const LatticeCoord& v, const Vec3& po
     FieldSample s = mProbe->sample(pos);
     s.value += mSculpture.levels().iso();
     if (mDeltas.empty()) return s;
-    const ToolLevel& tl = mSculpture.levels().level(mLattice);
+    const ToolLevel& tl = mSculpture.levels().level(mLevel);
     const HermiteFalloff& F = mSculpture.levels().falloff();
     for (const LatticeCoord& o : mStencil) {
         auto it = mDeltas.find(LatticeCoord{v.x + o.x, v.y + o.y, v.z + o.z});
@@ -310,13 +304,13 @@ void StrokeBuilder::setWeight(const LatticeCoord& v, const std::optional<float>&
                               const std::optional<float>& after) {
     SkeletonStore& store = mSculpture.store();
     if (after)
-        store.set(mLattice, v, *after);
+        store.set(mLevel, v, *after);
     else
-        store.erase(mLattice, v);
+        store.erase(mLevel, v);
     mDeltas[v] += after.value_or(0.0f) - current.value_or(0.0f);
     auto [it, first] = mChangeIndex.try_emplace(v, mChanges.size());
     if (first)
-        mChanges.push_back(SkeletonChange{mLattice, v, current, after});
+        mChanges.push_back(SkeletonChange{mLevel, v, current, after});
     else
         mChanges[it->second].after = after;
 }
@@ -351,7 +345,7 @@ double StrokeBuilder::fitCorrection(const Target& t) {
     // left gaps at the base of spines that start inside clay); a carve's fit also takes back,
     // the weights being clamped so that it never raises the field.
     if (!t.aim) return 0;
-    const ToolLevel& tl = mSculpture.levels().level(mLattice);
+    const ToolLevel& tl = mSculpture.levels().level(mLevel);
     const double h = tl.spacingMm;
     const SweptTransfer& H = *mTransfer;
     const HermiteFalloff& F = mSculpture.levels().falloff();
@@ -365,7 +359,7 @@ double StrokeBuilder::fitCorrection(const Target& t) {
     // around it (a level-6 column above the snowman's head came out 1.3 times the tool's radius at
     // its end).
     if (std::abs(need) > t.controlGrad * (add ? kFitReachOverRadius : kCarveFitReachOverRadius) *
-                             0.5 * mSculpture.levels().level(mLevel).diameterMm)
+                             0.5 * tl.diameterMm)
         return 0;
     const Vec3 q = *t.aim / h;  // lattice units
     double predicted = 0, norm = 0;
@@ -392,9 +386,9 @@ double StrokeBuilder::fitCorrection(const Target& t) {
 
 EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
     const ToolLevels& levels = mSculpture.levels();
-    const ToolLevel& tl = levels.level(mLattice);  // the lattice the weights live on
+    const ToolLevel& tl = levels.level(mLevel);
     const HermiteFalloff& F = levels.falloff();
-    const double radius = 0.5 * levels.level(mLevel).diameterMm;  // the tool's
+    const double radius = 0.5 * tl.diameterMm;
     const double margin = kSweptMarginOverRadius * radius;
     const double iso = levels.iso();
     const double uIso = F.inverse(iso);
@@ -628,7 +622,7 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
             if (it != mTargets.end()) w += tap.correction * it->second.correction;
         }
         w = clampToOp(w);
-        const std::optional<float> current = store.get(mLattice, v);
+        const std::optional<float> current = store.get(mLevel, v);
         auto [vit, first] = mVisited.try_emplace(v, Visit{current, 0});
         const std::optional<float> before = vit->second.preStroke;
         std::optional<float> after = before;
@@ -660,10 +654,10 @@ EditResult StrokeBuilder::finish() {
     // hash table's.
     std::sort(held.begin(), held.end(),
               [](const auto& l, const auto& r) { return l.first < r.first; });
-    const ToolLevel& tl = mSculpture.levels().level(mLattice);
+    const ToolLevel& tl = mSculpture.levels().level(mLevel);
     Aabb changed;
     for (const auto& [v, after] : held) {
-        const std::optional<float> current = mSculpture.store().get(mLattice, v);
+        const std::optional<float> current = mSculpture.store().get(mLevel, v);
         if (after == current) continue;
         setWeight(v, current, after);
         noteChanged(result, changed, vertexPos(v, tl.spacingMm));
@@ -675,7 +669,7 @@ EditResult StrokeBuilder::finish() {
 
 EditResult StrokeBuilder::addSampleOnTool(const Vec3& a, const Vec3& p) {
     const ToolLevels& levels = mSculpture.levels();
-    const ToolLevel& tl = levels.level(mLattice);
+    const ToolLevel& tl = levels.level(mLevel);
     const double radius = 0.5 * tl.diameterMm;
     const double iso = levels.iso();
     const bool thesis = mSculpture.config().placement == PlacementMode::Thesis;
@@ -684,7 +678,7 @@ EditResult StrokeBuilder::addSampleOnTool(const Vec3& a, const Vec3& p) {
     EditResult result;
     Aabb changed;
     for (const SweptVertex& sv : sweptWithMirror(tl.spacingMm, a, p, radius, mMirror)) {
-        const std::optional<float> current = store.get(mLattice, sv.coord);
+        const std::optional<float> current = store.get(mLevel, sv.coord);
         auto [it, first] = mVisited.try_emplace(sv.coord, Visit{current, sv.lateralMm});
         if (!first) {
             if (thesis || sv.lateralMm >= it->second.lateral) continue;

@@ -208,10 +208,6 @@ struct SculptConfig {
 
     // placement
     PlacementMode placement = PlacementMode::Swept;
-    /// Swept mode: weights go on the lattice this many levels below the tool's (0..3, never
-    /// below level 1). Carves and adds then follow the detail of worked clay (shallow carves
-    /// within 10 % at 2), at about 2.5× the placement time per level (docs/placement.md).
-    int finerLatticeLevels = 0;
 
     // initial shape: a sphere, represented by one point skeleton of its own support radius
     double sphereRadiusMm = 40.0;  ///< 0 starts from empty space

@@ -142,7 +142,9 @@ struct SweptTransfer {
         int i[3];
         for (int k = 0; k < 3; ++k) {
             const double a = std::abs(x[k]) * kPerUnit;
-            if (a >= kNodes - 1) return 0.0;
+            // Written so that a NaN position (a field gone non-finite) reads 0, never an
+            // index out of the table.
+            if (!(a < kNodes - 1)) return 0.0;
             i[k] = int(a);
             f[k] = a - i[k];
         }

@@ -304,6 +304,14 @@ FieldSample StrokeBuilder::preStrokeSample(const LatticeCoord& v, const Vec3& po
 
 void StrokeBuilder::setWeight(const LatticeCoord& v, const std::optional<float>& current,
                               const std::optional<float>& after) {
+    // A weight beyond float range would make the field infinite or NaN around it for good:
+    // the sample is refused instead (out_of_range: the session cancels the whole stroke and
+    // says why, and the sculpture stays as it was).
+    if (after && !std::isfinite(*after))
+        throw std::out_of_range("a skeleton weight would leave the range of a float (level " +
+                                std::to_string(mLevel) + " at lattice (" + std::to_string(v.x) +
+                                ", " + std::to_string(v.y) + ", " + std::to_string(v.z) +
+                                ")): the clay there is numerically broken");
     SkeletonStore& store = mSculpture.store();
     if (after)
         store.set(mLevel, v, *after);

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <random>
 
 using namespace vsculpt::core;
@@ -278,6 +280,28 @@ TEST(PlacementFree, ReplayingAStrokeBarelyChangesIt) {
 // Interactive strokes hold back their small weight changes until the stroke's end
 // (kInteractiveHoldBelow): fewer writes while the tool moves, and after finish() the same
 // weights as writing every change at once, up to the rounding of the pre-stroke field.
+TEST(PlacementSwept, AWeightBeyondFloatRangeIsRefusedNotStored) {
+    // Clay whose weights sit at the top of float range (a blow-up, or a damaged store): a
+    // carve through it would write infinities (measured: two). The sample is refused with
+    // out_of_range, which the session turns into a cancelled stroke, and nothing non-finite
+    // reaches the store.
+    Sculpture s(emptyConfig(PlacementMode::Swept));
+    constexpr int kLevel = 4;
+    const float huge = std::numeric_limits<float>::max();
+    s.store().set(kLevel, LatticeCoord{0, 0, 0}, huge);
+    s.store().set(kLevel, LatticeCoord{1, 0, 0}, huge);
+    StrokeBuilder b(s, ToolOp::Carve, kLevel);
+    EXPECT_THROW(
+        {
+            for (const Vec3& p : linePath(Vec3(-10, 0.3, 0.2), Vec3(10, 0.3, 0.2), 2.0))
+                b.addSample(p);
+        },
+        std::out_of_range);
+    size_t nonFinite = 0;
+    s.store().forEach([&](const SkeletonEntry& e) { nonFinite += !std::isfinite(e.weight); });
+    EXPECT_EQ(nonFinite, 0u);
+}
+
 TEST(PlacementSwept, HeldBackChangesAllReachTheStoreAtTheStrokesEnd) {
     for (ToolOp op : {ToolOp::Add, ToolOp::Carve}) {
         SculptConfig cfg;  // swept, the initial sphere

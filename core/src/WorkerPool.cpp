@@ -38,7 +38,8 @@ bool lowerPriority(int niceIncrement) {
 
 }  // namespace
 
-WorkerPool::WorkerPool(int helpers, int niceIncrement) : mLowered(niceIncrement > 0) {
+WorkerPool::WorkerPool(int helpers, int niceIncrement)
+    : mLowered(niceIncrement > 0 && helpers > 0) {
     mThreads.reserve(size_t(std::max(0, helpers)));
     for (int i = 0; i < helpers; ++i)
         mThreads.emplace_back([this, niceIncrement] { helperLoop(niceIncrement); });

@@ -128,13 +128,9 @@ void Session::rebuildView() {
     }
     mWrites.clear();  // the new view starts from the sculpture as it is
     ++mViewChanges;
-    if (mDeferred) {
-        mViewRegionStale = true;
-        mDirtyBlocks.clear();
-        return;
-    }
-    mView = std::make_unique<Polygonizer>(*mSculpture, mRegion, mConfig.polygonizer.rootTolerance);
-    mView->rebuildAll();
+    mViewRegionStale = true;
+    mDirtyBlocks.clear();
+    if (!mDeferred) catchUpView();
 }
 
 void Session::setDeferredMeshing(bool on) {
@@ -145,7 +141,7 @@ void Session::setDeferredMeshing(bool on) {
 
 void Session::catchUpView() const {
     if (mMesher) return;
-    if (mViewRegionStale || !mView) {
+    if (mViewRegionStale) {
         mView =
             std::make_unique<Polygonizer>(*mSculpture, mRegion, mConfig.polygonizer.rootTolerance);
         mView->rebuildAll();

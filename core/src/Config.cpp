@@ -369,6 +369,12 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
             placement.fail("placement.mode",
                            "expected \"thesis\", \"free\" or \"swept\", got " + v->dump());
     }
+    if (const json* v = placement.find("finer_lattice_levels")) {
+        if (!v->is_number_integer() || v->get<int>() < 0 || v->get<int>() > 2)
+            placement.fail("placement.finer_lattice_levels",
+                           "expected an integer 0..2, got " + v->dump());
+        cfg.finerLatticeLevels = v->get<int>();
+    }
     placement.rejectUnknown();
 
     Section sphere = top.sub("initial_sphere");
@@ -558,7 +564,8 @@ std::string configToJson(const SculptConfig& c) {
                                  {"scale", c.manualSupport->scale}};
     else
         j["field"]["support"] = "calibrate";
-    j["placement"] = {{"mode", toString(c.placement)}};
+    j["placement"] = {{"mode", toString(c.placement)},
+                      {"finer_lattice_levels", c.finerLatticeLevels}};
     j["initial_sphere"] = {
         {"radius_mm", c.sphereRadiusMm},
         {"center_mm", {c.sphereCenterMm.x, c.sphereCenterMm.y, c.sphereCenterMm.z}}};

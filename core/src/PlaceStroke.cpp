@@ -67,6 +67,11 @@ constexpr double kFitShareWidth = 2.5;
 // thin fold of clay where 2 of its 400 000 rays lost the front/back alternation (float
 // precision at a 0.2 um wedge); at 2.5 and 2 none do, and depths are the same.
 constexpr double kFitReachOverRadius = 2.5;
+// The least normalisation of a fit share (see fitCorrection): a vertex takes at most about
+// 1 / 0.3 times the shortfall at its aim. Strokes on a lattice two levels down, adds and carves
+// alternating over one spot (400 strokes), stay bounded with this floor (max |w| 1.8) as when
+// the fit is skipped below 0.1 or 0.3 (2.5, 1.3); a floor keeps the correction continuous.
+constexpr double kFitNormFloor = 0.3;
 // A carve's fit reaches further: the deepest groove bottom lies 1.4 radii below the
 // surface, but inside undulating clay, where the field flattens, the first-order reading puts
 // it up to about three times deeper (a size-6 groove at 140 % on the slab of strokes: 0.89
@@ -196,11 +201,21 @@ StrokeBuilder::StrokeBuilder(Sculpture& sculpture, ToolOp op, int level, MirrorA
     : mSculpture(sculpture), mOp(op), mLevel(level), mMirror(mirror) {
     if (level < 1 || level > kLevelCount)
         throw std::invalid_argument("tool level " + std::to_string(level) + " outside 1..7");
+    // Swept strokes may place their weights on a finer lattice than the tool's: the change a
+    // carve makes to worked clay follows the clay's detail, which the tool's own lattice
+    // cannot express (a shallow size-6 carve on clay of strokes: 0.49..1.35 of its depth on
+    // the tool's lattice, 0.97..1.10 two levels down; docs/placement.md "Finer lattices").
+    // Adds go there too: carves alone on a finer lattice, adds on the tool's, let adds and
+    // carves alternating over one spot grow opposite weights on the two lattices without
+    // bound (max |w| 97 after 400 strokes, measured).
+    mLattice = sculpture.config().placement == PlacementMode::Swept && op != ToolOp::Smooth
+                   ? std::max(1, level - sculpture.config().finerLatticeLevels)
+                   : level;
     if (op == ToolOp::Smooth && sculpture.config().placement == PlacementMode::Thesis)
         throw std::invalid_argument(
             "the smooth tool needs placement mode \"free\" or \"swept\" (thesis mode has unit "
             "weights only)");
-    const ToolLevel& tl = sculpture.levels().level(level);
+    const ToolLevel& tl = sculpture.levels().level(mLattice);
     const int n = int(std::ceil(tl.supportMm / tl.spacingMm));
     const double r2 = tl.supportMm * tl.supportMm;
     for (int x = -n; x <= n; ++x)
@@ -247,7 +262,7 @@ StrokeBuilder::~StrokeBuilder() = default;
 double StrokeBuilder::preStrokeRawSum(const LatticeCoord& v, const Vec3& pos) {
     double raw = mProbe->rawSum(pos);
     if (mDeltas.empty()) return raw;
-    const ToolLevel& tl = mSculpture.levels().level(mLevel);
+    const ToolLevel& tl = mSculpture.levels().level(mLattice);
     const HermiteFalloff& F = mSculpture.levels().falloff();
     for (const LatticeCoord& o : mStencil) {
         auto it = mDeltas.find(LatticeCoord{v.x + o.x, v.y + o.y, v.z + o.z});
@@ -262,7 +277,7 @@ FieldSample StrokeBuilder::preStrokeSampleAt(const Vec3& pos) {
     FieldSample s = mProbe->sample(pos);
     s.value += mSculpture.levels().iso();
     if (mDeltas.empty()) return s;
-    const ToolLevel& tl = mSculpture.levels().level(mLevel);
+    const ToolLevel& tl = mSculpture.levels().level(mLattice);
     const HermiteFalloff& F = mSculpture.levels().falloff();
     const Vec3 q = pos / tl.spacingMm;
     const double r = tl.supportMm / tl.spacingMm;
@@ -286,7 +301,7 @@ FieldSample StrokeBuilder::preStrokeSample(const LatticeCoord& v, const Vec3& po
     FieldSample s = mProbe->sample(pos);
     s.value += mSculpture.levels().iso();
     if (mDeltas.empty()) return s;
-    const ToolLevel& tl = mSculpture.levels().level(mLevel);
+    const ToolLevel& tl = mSculpture.levels().level(mLattice);
     const HermiteFalloff& F = mSculpture.levels().falloff();
     for (const LatticeCoord& o : mStencil) {
         auto it = mDeltas.find(LatticeCoord{v.x + o.x, v.y + o.y, v.z + o.z});
@@ -314,13 +329,13 @@ void StrokeBuilder::setWeight(const LatticeCoord& v, const std::optional<float>&
                                 ")): the clay there is numerically broken");
     SkeletonStore& store = mSculpture.store();
     if (after)
-        store.set(mLevel, v, *after);
+        store.set(mLattice, v, *after);
     else
-        store.erase(mLevel, v);
+        store.erase(mLattice, v);
     mDeltas[v] += after.value_or(0.0f) - current.value_or(0.0f);
     auto [it, first] = mChangeIndex.try_emplace(v, mChanges.size());
     if (first)
-        mChanges.push_back(SkeletonChange{mLevel, v, current, after});
+        mChanges.push_back(SkeletonChange{mLattice, v, current, after});
     else
         mChanges[it->second].after = after;
 }
@@ -355,7 +370,7 @@ double StrokeBuilder::fitCorrection(const Target& t) {
     // left gaps at the base of spines that start inside clay); a carve's fit also takes back,
     // the weights being clamped so that it never raises the field.
     if (!t.aim) return 0;
-    const ToolLevel& tl = mSculpture.levels().level(mLevel);
+    const ToolLevel& tl = mSculpture.levels().level(mLattice);
     const double h = tl.spacingMm;
     const SweptTransfer& H = *mTransfer;
     const HermiteFalloff& F = mSculpture.levels().falloff();
@@ -369,7 +384,7 @@ double StrokeBuilder::fitCorrection(const Target& t) {
     // around it (a level-6 column above the snowman's head came out 1.3 times the tool's radius at
     // its end).
     if (std::abs(need) > t.controlGrad * (add ? kFitReachOverRadius : kCarveFitReachOverRadius) *
-                             0.5 * tl.diameterMm)
+                             0.5 * mSculpture.levels().level(mLevel).diameterMm)
         return 0;
     const Vec3 q = *t.aim / h;  // lattice units
     double predicted = 0, norm = 0;
@@ -388,7 +403,15 @@ double StrokeBuilder::fitCorrection(const Target& t) {
                     predicted += it->second.base * F.value(dist / tl.supportMm);
                 if (it->second.share > 0) norm += it->second.share * H(d);
             }
+    // Each vertex's share is normalised by what the shares around its aim realise there; where
+    // few vertices near the aim take a share (on a lattice finer than the tool's, aims lie up
+    // to 9 spacings from their vertices and shares vanish beyond 6), that sum nears zero and
+    // the quotient ran away (adds and carves on a lattice two levels down blew the weights up
+    // to 1e14 within 40 strokes). A floor keeps a vertex's correction within a few times the
+    // shortfall; on the tool's lattice it acts at fewer than 1 in 1 000 aims. (A sum that is
+    // not positive means the shares cannot reach the aim at all: no correction.)
     if (norm <= 1e-9) return 0;
+    norm = std::max(norm, kFitNormFloor);
     if (add && need <= predicted) return 0;
     const double f = t.change + (need - predicted) * t.share / norm;
     return add ? std::max(f, 0.0) - t.change : f - t.change;
@@ -396,9 +419,9 @@ double StrokeBuilder::fitCorrection(const Target& t) {
 
 EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
     const ToolLevels& levels = mSculpture.levels();
-    const ToolLevel& tl = levels.level(mLevel);
+    const ToolLevel& tl = levels.level(mLattice);  // the lattice the weights live on
     const HermiteFalloff& F = levels.falloff();
-    const double radius = 0.5 * tl.diameterMm;
+    const double radius = 0.5 * levels.level(mLevel).diameterMm;  // the tool's
     const double margin = kSweptMarginOverRadius * radius;
     const double iso = levels.iso();
     const double uIso = F.inverse(iso);
@@ -632,7 +655,7 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
             if (it != mTargets.end()) w += tap.correction * it->second.correction;
         }
         w = clampToOp(w);
-        const std::optional<float> current = store.get(mLevel, v);
+        const std::optional<float> current = store.get(mLattice, v);
         auto [vit, first] = mVisited.try_emplace(v, Visit{current, 0});
         const std::optional<float> before = vit->second.preStroke;
         std::optional<float> after = before;
@@ -664,10 +687,10 @@ EditResult StrokeBuilder::finish() {
     // hash table's.
     std::sort(held.begin(), held.end(),
               [](const auto& l, const auto& r) { return l.first < r.first; });
-    const ToolLevel& tl = mSculpture.levels().level(mLevel);
+    const ToolLevel& tl = mSculpture.levels().level(mLattice);
     Aabb changed;
     for (const auto& [v, after] : held) {
-        const std::optional<float> current = mSculpture.store().get(mLevel, v);
+        const std::optional<float> current = mSculpture.store().get(mLattice, v);
         if (after == current) continue;
         setWeight(v, current, after);
         noteChanged(result, changed, vertexPos(v, tl.spacingMm));
@@ -679,7 +702,7 @@ EditResult StrokeBuilder::finish() {
 
 EditResult StrokeBuilder::addSampleOnTool(const Vec3& a, const Vec3& p) {
     const ToolLevels& levels = mSculpture.levels();
-    const ToolLevel& tl = levels.level(mLevel);
+    const ToolLevel& tl = levels.level(mLattice);
     const double radius = 0.5 * tl.diameterMm;
     const double iso = levels.iso();
     const bool thesis = mSculpture.config().placement == PlacementMode::Thesis;
@@ -688,7 +711,7 @@ EditResult StrokeBuilder::addSampleOnTool(const Vec3& a, const Vec3& p) {
     EditResult result;
     Aabb changed;
     for (const SweptVertex& sv : sweptWithMirror(tl.spacingMm, a, p, radius, mMirror)) {
-        const std::optional<float> current = store.get(mLevel, sv.coord);
+        const std::optional<float> current = store.get(mLattice, sv.coord);
         auto [it, first] = mVisited.try_emplace(sv.coord, Visit{current, sv.lateralMm});
         if (!first) {
             if (thesis || sv.lateralMm >= it->second.lateral) continue;

@@ -197,6 +197,30 @@ TEST(Session, AProjectKeepsThePlacementModeItWasMadeWith) {
     EXPECT_EQ(viewHash(*s), end);
 }
 
+TEST(Session, AProjectKeepsTheLatticeItsStrokesWerePlacedOn) {
+    // Made with placement.finer_lattice_levels = 2: reopened with the default config (0), its
+    // journal replays on the finer lattice to the same mesh, and new strokes go there too.
+    TempDir dir;
+    core::SculptConfig made = smallConfig();
+    made.finerLatticeLevels = 2;
+    ASSERT_NE(core::SculptConfig{}.finerLatticeLevels, made.finerLatticeLevels);
+    uint64_t end = 0;
+    {
+        auto s = Session::openProject(dir.path, made);
+        sculptSome(*s, 2, 5);
+        end = viewHash(*s);
+    }
+    auto s = Session::openProject(dir.path, core::SculptConfig{});
+    EXPECT_EQ(s->sculpture().config().finerLatticeLevels, 2);
+    EXPECT_EQ(s->recoveredEdits(), 2u);
+    EXPECT_EQ(viewHash(*s), end);
+    sculptSome(*s, 3, 6);  // sizes 5, 6 and 7: weights on levels 3, 4 and 5
+    int highest = 0;
+    s->sculpture().store().forEach(
+        [&](const core::SkeletonEntry& e) { highest = std::max(highest, e.level); });
+    EXPECT_EQ(highest, 5);
+}
+
 TEST(Session, DamagedJournalTailIsDroppedAndReported) {
     TempDir dir;
     uint64_t afterTwo = 0;

@@ -118,6 +118,7 @@ class StrokeBuilder {
     Sculpture& mSculpture;
     ToolOp mOp;
     int mLevel;
+    int mLattice;  // the level whose lattice the weights are placed on (swept: may be finer)
     MirrorAxis mMirror;
     std::optional<Vec3> mLast;
     struct Visit {
@@ -131,7 +132,8 @@ class StrokeBuilder {
     std::vector<LatticeCoord> mStencil;  // lattice offsets within the level's support radius
     std::vector<SkeletonChange> mChanges;
     double mHoldBelow = 0;
-    std::unordered_map<LatticeCoord, std::optional<float>, LatticeCoordHash> mHeld;  // the weight due
+    std::unordered_map<LatticeCoord, std::optional<float>, LatticeCoordHash>
+        mHeld;                                                                // the weight due
     std::unordered_map<LatticeCoord, size_t, LatticeCoordHash> mChangeIndex;  // into mChanges
 
     // Swept mode (docs/placement.md): each vertex near the path gets a target change of the

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -133,6 +134,16 @@ std::string lineColumn(std::string_view text, size_t byte) {
     return std::to_string(line) + ":" + std::to_string(col);
 }
 
+// An integer within lo..hi. (nlohmann's get<int>() wraps a larger one: 4294967296 read as 0.)
+bool isIntegerIn(const json& v, long long lo, long long hi) {
+    if (v.is_number_unsigned()) {
+        const unsigned long long u = v.get<unsigned long long>();
+        return hi >= 0 && u <= static_cast<unsigned long long>(hi) &&
+               static_cast<long long>(u) >= lo;
+    }
+    return v.is_number_integer() && v.get<long long>() >= lo && v.get<long long>() <= hi;
+}
+
 // USB ids are written either as numbers or as "0x046d" strings.
 int usbId(const Section& sec, const std::string& key, const json& v) {
     long value = -1;
@@ -152,7 +163,7 @@ int usbId(const Section& sec, const std::string& key, const json& v) {
 
 void parseDevices(Section dev, DevicesConfig& out) {
     if (const json* v = dev.find("transfers_in_flight")) {
-        if (!v->is_number_integer() || v->get<int>() < 1 || v->get<int>() > 32)
+        if (!isIntegerIn(*v, 1, 32))
             dev.fail("devices.transfers_in_flight", "expected an integer 1..32, got " + v->dump());
         out.transfersInFlight = v->get<int>();
     }
@@ -168,7 +179,7 @@ void parseDevices(Section dev, DevicesConfig& out) {
     for (const char* key : {"pen_station", "head_station", "object_station"}) {
         if (const json* v = tracker.find(key)) {
             const int lo = std::string(key) == "object_station" ? 0 : 1;
-            if (!v->is_number_integer() || v->get<int>() < lo || v->get<int>() > 16)
+            if (!isIntegerIn(*v, lo, 16))
                 tracker.fail(
                     std::string("devices.tracker.") + key,
                     "expected a station number " + std::to_string(lo) + "..16, got " + v->dump());
@@ -229,9 +240,9 @@ void parseDevices(Section dev, DevicesConfig& out) {
             auto integer = [&](const char* key, int& field, int lo, int hi) {
                 const json* v = m.find(key);
                 if (!v) return;
-                const int value = v->is_string()           ? usbId(m, at + "." + key, *v)
-                                  : v->is_number_integer() ? v->get<int>()
-                                                           : -1;
+                const int value = v->is_string()            ? usbId(m, at + "." + key, *v)
+                                  : isIntegerIn(*v, lo, hi) ? v->get<int>()
+                                                            : -1;
                 if (value < lo || value > hi)
                     m.fail(at + "." + key, "expected " + std::to_string(lo) + ".." +
                                                std::to_string(hi) + ", got " + v->dump());
@@ -316,7 +327,7 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
 
     Section tools = top.sub("tools");
     if (const json* v = tools.find("levels")) {
-        if (!v->is_number_integer() || v->get<int>() != kLevelCount)
+        if (!isIntegerIn(*v, kLevelCount, kLevelCount))
             tools.fail("tools.levels", "vsculpt has exactly 7 tool levels (got " + v->dump() + ")");
     }
     tools.number("d4_mm", cfg.d4Mm);
@@ -370,7 +381,7 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
                            "expected \"thesis\", \"free\" or \"swept\", got " + v->dump());
     }
     if (const json* v = placement.find("finer_lattice_levels")) {
-        if (!v->is_number_integer() || v->get<int>() < 0 || v->get<int>() > 2)
+        if (!isIntegerIn(*v, 0, 2))
             placement.fail("placement.finer_lattice_levels",
                            "expected an integer 0..2, got " + v->dump());
         cfg.finerLatticeLevels = v->get<int>();
@@ -384,7 +395,7 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
 
     Section zoom = top.sub("zoom");
     if (const json* v = zoom.find("levels")) {
-        if (!v->is_number_integer() || v->get<int>() != kZoomLevels)
+        if (!isIntegerIn(*v, kZoomLevels, kZoomLevels))
             zoom.fail("zoom.levels", "vsculpt has exactly 5 zoom levels (got " + v->dump() + ")");
     }
     zoom.number("base_spacing_over_d6", cfg.zoom.baseSpacingOverD6);
@@ -398,7 +409,7 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
                 zoom.fail(key, "expected a non-empty list of tool levels 1..7");
             std::vector<int> sizes;
             for (const json& k : row) {
-                if (!k.is_number_integer() || k.get<int>() < 1 || k.get<int>() > kLevelCount)
+                if (!isIntegerIn(k, 1, kLevelCount))
                     zoom.fail(key, "tool levels are integers 1..7, got " + k.dump());
                 if (std::find(sizes.begin(), sizes.end(), k.get<int>()) != sizes.end())
                     zoom.fail(key, "level " + k.dump() + " listed twice");
@@ -411,7 +422,7 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
 
     Section poly = top.sub("polygonizer");
     if (const json* v = poly.find("grid_n")) {
-        if (!v->is_number_integer())
+        if (!isIntegerIn(*v, INT_MIN, INT_MAX))
             poly.fail("polygonizer.grid_n", "expected an integer, got " + v->dump());
         cfg.polygonizer.gridN = v->get<int>();
     }
@@ -471,7 +482,7 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
     rend.number("ipd_mm", cfg.render.ipdMm);
     rend.number("vertical_fov_deg", cfg.render.verticalFovDeg);
     if (const json* v = rend.find("fullscreen_monitor")) {
-        if (!v->is_number_integer())
+        if (!isIntegerIn(*v, INT_MIN, INT_MAX))
             rend.fail("render.fullscreen_monitor", "expected an integer (-1: windowed)");
         cfg.render.fullscreenMonitor = v->get<int>();
     }

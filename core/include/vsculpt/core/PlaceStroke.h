@@ -132,8 +132,8 @@ class StrokeBuilder {
     std::vector<LatticeCoord> mStencil;  // lattice offsets within the level's support radius
     std::vector<SkeletonChange> mChanges;
     double mHoldBelow = 0;
-    std::unordered_map<LatticeCoord, std::optional<float>, LatticeCoordHash>
-        mHeld;                                                                // the weight due
+    // The weight due at each vertex whose change is held back.
+    std::unordered_map<LatticeCoord, std::optional<float>, LatticeCoordHash> mHeld;
     std::unordered_map<LatticeCoord, size_t, LatticeCoordHash> mChangeIndex;  // into mChanges
 
     // Swept mode (docs/placement.md): each vertex near the path gets a target change of the

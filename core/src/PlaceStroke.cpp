@@ -396,12 +396,11 @@ double StrokeBuilder::fitCorrection(const Target& t) {
                 const Vec3 d = q - u;
                 const double d2 = glm::dot(d, d);
                 if (d2 >= r * r) continue;
-                const auto it = mTargets.find(LatticeCoord{x, y, z});
-                if (it == mTargets.end()) continue;
+                const Target* nb = mTargets.find(LatticeCoord{x, y, z});
+                if (!nb) continue;
                 const double dist = std::sqrt(d2) * h;
-                if (dist < tl.supportMm)
-                    predicted += it->second.base * F.value(dist / tl.supportMm);
-                if (it->second.share > 0) norm += it->second.share * H(d);
+                if (dist < tl.supportMm) predicted += nb->base * F.value(dist / tl.supportMm);
+                if (nb->share > 0) norm += nb->share * H(d);
             }
     // Each vertex's share is normalised by what the shares around its aim realise there; where
     // few vertices near the aim take a share (on a lattice finer than the tool's, aims lie up
@@ -563,8 +562,8 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
 
     std::vector<LatticeCoord> touched;  // new, or their closest approach changed
     for (const SweptVertex& sv : sweptWithMirror(tl.spacingMm, a, p, radius + margin, mMirror)) {
-        auto [it, first] = mTargets.try_emplace(sv.coord);
-        Target& t = it->second;
+        auto [target, first] = mTargets.tryEmplace(sv.coord);
+        Target& t = *target;
         const Vec3 pos = vertexPos(sv.coord, tl.spacingMm);
         if (first) {
             const FieldSample fs = preStrokeSample(sv.coord, pos);
@@ -603,7 +602,7 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
     for (const LatticeCoord& u : touched)
         for (const Tap& tap : mDeconvolve) {
             const LatticeCoord v{u.x + tap.offset.x, u.y + tap.offset.y, u.z + tap.offset.z};
-            if (mTargets.count(v)) baseSet.emplace(v, 0);
+            if (mTargets.contains(v)) baseSet.emplace(v, 0);
         }
     CoordSet affected;  // vertices whose weight must be recomputed
     for (const LatticeCoord& v : touched)
@@ -611,11 +610,11 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
     for (const auto& [v, unused] : baseSet) {
         double w = 0;
         for (const Tap& tap : mDeconvolve) {
-            auto it = mTargets.find(
+            const Target* u = mTargets.find(
                 LatticeCoord{v.x - tap.offset.x, v.y - tap.offset.y, v.z - tap.offset.z});
-            if (it != mTargets.end()) w += tap.target * it->second.change;
+            if (u) w += tap.target * u->change;
         }
-        Target& t = mTargets.at(v);
+        Target& t = *mTargets.find(v);
         w = clampToOp(w);
         if (w == t.base) continue;
         t.base = w;
@@ -635,15 +634,15 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
                              aimReach;
         CoordSet fitSet;
         for (const SweptVertex& sv : sweptWithMirror(tl.spacingMm, a, p, reach, mMirror))
-            if (mTargets.count(sv.coord)) fitSet.emplace(sv.coord, 0);
+            if (mTargets.contains(sv.coord)) fitSet.emplace(sv.coord, 0);
         for (const LatticeCoord& u : sorted(fitSet)) {
-            Target& t = mTargets.at(u);
+            Target& t = *mTargets.find(u);
             const double c = fitCorrection(t);
             if (c == t.correction) continue;
             t.correction = c;
             for (const Tap& tap : mDeconvolve) {
                 const LatticeCoord v{u.x + tap.offset.x, u.y + tap.offset.y, u.z + tap.offset.z};
-                if (mTargets.count(v)) affected.emplace(v, 0);
+                if (mTargets.contains(v)) affected.emplace(v, 0);
             }
         }
     }
@@ -653,11 +652,11 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
     Aabb changed;
     for (const LatticeCoord& v : order) {
         // The base weight plus the deconvolved corrections, clamped again.
-        double w = mTargets.at(v).base;
+        double w = mTargets.find(v)->base;
         for (const Tap& tap : mDeconvolve) {
-            auto it = mTargets.find(
+            const Target* u = mTargets.find(
                 LatticeCoord{v.x - tap.offset.x, v.y - tap.offset.y, v.z - tap.offset.z});
-            if (it != mTargets.end()) w += tap.correction * it->second.correction;
+            if (u) w += tap.correction * u->correction;
         }
         w = clampToOp(w);
         const std::optional<float> current = store.get(mLattice, v);

@@ -13,6 +13,7 @@
 #include "vsculpt/core/Config.h"
 #include "vsculpt/core/EvalField.h"
 #include "vsculpt/core/Geometry.h"
+#include "vsculpt/core/LatticeMap.h"
 
 #include <array>
 #include <memory>
@@ -167,7 +168,7 @@ class StrokeBuilder {
     double mDeconvolveReach = 0;  // the longest tap offset, lattice spacings
     bool mAnyControl = false;     // some target of this stroke has a control point
     std::shared_ptr<const SweptTransfer> mTransfer;
-    std::unordered_map<LatticeCoord, Target, LatticeCoordHash> mTargets;
+    LatticeMap<Target> mTargets;
     struct Tap {
         LatticeCoord offset;
         double target = 0;      // of the targets' (stabilised) stencil

@@ -1,0 +1,80 @@
+#pragma once
+/// @file
+/// @brief A sparse map from lattice vertices to values, stored in dense 8^3 bricks.
+///
+/// Placement looks up every target within a few lattice spacings of each re-fitted target;
+/// in a node-based hash map each lookup walked a chain of separately allocated nodes (42 % of
+/// a stroke's placement time on a lattice one level below the tool's: docs/benchmarks.md).
+/// Here a lookup is one hash of the vertex's brick, skipped when it is the brick of the
+/// previous lookup, and an index into the brick. Values are never moved: references stay valid
+/// until the map is destroyed. Not thread-safe (the last brick is cached even in find()).
+#include "vsculpt/core/Geometry.h"
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <unordered_map>
+#include <utility>
+
+namespace vsculpt::core {
+
+template <class T>
+class LatticeMap {
+  public:
+    /// The value at v, or nullptr.
+    T* find(const LatticeCoord& v) const {
+        const Brick* b = brick(v);
+        if (!b) return nullptr;
+        const int32_t i = b->slots[slot(v)];
+        return i < 0 ? nullptr : const_cast<T*>(&mValues[size_t(i)]);
+    }
+    bool contains(const LatticeCoord& v) const { return find(v) != nullptr; }
+    /// The value at v, default-constructed if absent; second: whether it was inserted.
+    std::pair<T*, bool> tryEmplace(const LatticeCoord& v) {
+        Brick* b = brick(v);
+        if (!b) {
+            auto& owned = mBricks[brickOf(v)];
+            owned = std::make_unique<Brick>();
+            owned->slots.fill(-1);
+            b = owned.get();
+            mLastKey = brickOf(v);
+            mLast = b;
+        }
+        int32_t& i = b->slots[slot(v)];
+        if (i >= 0) return {&mValues[size_t(i)], false};
+        i = int32_t(mValues.size());
+        mValues.emplace_back();
+        return {&mValues.back(), true};
+    }
+    size_t size() const { return mValues.size(); }
+
+  private:
+    static constexpr int kShift = 3;  // 8^3 vertices a brick
+    static constexpr int32_t kMask = (1 << kShift) - 1;
+    struct Brick {
+        std::array<int32_t, 1 << (3 * kShift)> slots;  // index into mValues, -1: empty
+    };
+    static LatticeCoord brickOf(const LatticeCoord& v) {
+        return {v.x >> kShift, v.y >> kShift, v.z >> kShift};  // floor for negatives too
+    }
+    static size_t slot(const LatticeCoord& v) {
+        return size_t((((v.x & kMask) << kShift | (v.y & kMask)) << kShift) | (v.z & kMask));
+    }
+    Brick* brick(const LatticeCoord& v) const {
+        const LatticeCoord key = brickOf(v);
+        if (mLast && key == mLastKey) return mLast;
+        const auto it = mBricks.find(key);
+        if (it == mBricks.end()) return nullptr;
+        mLastKey = key;
+        mLast = it->second.get();
+        return mLast;
+    }
+
+    std::unordered_map<LatticeCoord, std::unique_ptr<Brick>, LatticeCoordHash> mBricks;
+    std::deque<T> mValues;
+    mutable LatticeCoord mLastKey;
+    mutable Brick* mLast = nullptr;
+};
+
+}  // namespace vsculpt::core

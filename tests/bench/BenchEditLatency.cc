@@ -98,6 +98,9 @@ DenseModel& denseModel(size_t n) {
     const char* mode = std::getenv("VSCULPT_BENCH_PLACEMENT");
     cfg.placement =
         mode && std::string(mode) == "swept" ? PlacementMode::Swept : PlacementMode::Free;
+    // VSCULPT_BENCH_FINER_LEVELS=k: placement.finer_lattice_levels (swept mode only).
+    if (const char* finer = std::getenv("VSCULPT_BENCH_FINER_LEVELS"))
+        cfg.finerLatticeLevels = std::atoi(finer);
     m.sculpture = std::make_unique<Sculpture>(cfg);
     Sculpture& s = *m.sculpture;
     std::mt19937 rng(14);

@@ -69,8 +69,8 @@ constexpr double kFitShareWidth = 2.5;
 constexpr double kFitReachOverRadius = 2.5;
 // The least normalisation of a fit share (see fitCorrection): a vertex takes at most about
 // 1 / 0.3 times the shortfall at its aim. Strokes on a lattice two levels down, adds and carves
-// alternating over one spot (400 strokes), stay bounded with this floor (max |w| 1.8) as when
-// the fit is skipped below 0.1 or 0.3 (2.5, 1.3); a floor keeps the correction continuous.
+// alternating over one spot (400 strokes), stay bounded with this floor (max |w| 1.3; skipping
+// the fit below 0.1 or 0.3 instead did too, but a floor keeps the correction continuous).
 constexpr double kFitNormFloor = 0.3;
 // A carve's fit reaches further: the deepest groove bottom lies 1.4 radii below the
 // surface, but inside undulating clay, where the field flattens, the first-order reading puts
@@ -324,7 +324,7 @@ void StrokeBuilder::setWeight(const LatticeCoord& v, const std::optional<float>&
     // says why, and the sculpture stays as it was).
     if (after && !std::isfinite(*after))
         throw std::out_of_range("a skeleton weight would leave the range of a float (level " +
-                                std::to_string(mLevel) + " at lattice (" + std::to_string(v.x) +
+                                std::to_string(mLattice) + " at lattice (" + std::to_string(v.x) +
                                 ", " + std::to_string(v.y) + ", " + std::to_string(v.z) +
                                 ")): the clay there is numerically broken");
     SkeletonStore& store = mSculpture.store();

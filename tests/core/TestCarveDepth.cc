@@ -13,6 +13,7 @@
 #include "TestHelpers.h"
 #include "vsculpt/core/Mesh.h"
 #include "vsculpt/core/Polygonizer.h"
+#include "vsculpt/core/SweptVertices.h"
 #include "vsculpt/core/Zoom.h"
 
 #include <gtest/gtest.h>
@@ -684,12 +685,8 @@ TEST(CarveDepth, AnAddOverACarvedTunnelFillsItsTool) {
                 for (double z = -8; z <= 7; z += 0.5) {
                     const Vec3 p(x, y, z);
                     double d = 1e9;
-                    for (size_t i = 1; i < add.size(); ++i) {
-                        const Vec3 a = add[i - 1], b = add[i];
-                        const double t =
-                            std::clamp(glm::dot(p - a, b - a) / glm::dot(b - a, b - a), 0.0, 1.0);
-                        d = std::min(d, glm::length(p - (a + t * (b - a))));
-                    }
+                    for (size_t i = 1; i < add.size(); ++i)
+                        d = std::min(d, distanceToSegment(p, add[i - 1], add[i]));
                     if (d < rho && probe.value(p) <= 0) empty.push_back(p);
                 }
     }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Golden playback: the example scripts, checked by mesh properties (not pixels).
 #include "vsculpt/core/EvalField.h"
+#include "vsculpt/core/SweptVertices.h"
 #include "vsculpt/studio/Session.h"
 
 #include <gtest/gtest.h>
@@ -147,12 +148,8 @@ TEST(Playback, PrintEachStrokeOfAWorkedDetailAgainstItsTool) {
             const double rho = 0.5 * s->sculpture().levels().level(level).diameterMm;
             const auto inTool = [&](const core::Vec3& p) {
                 double best = glm::length(p - c.points[0]);
-                for (size_t i = 1; i < c.points.size(); ++i) {
-                    const core::Vec3 a = c.points[i - 1], b = c.points[i];
-                    const double t =
-                        std::clamp(glm::dot(p - a, b - a) / glm::dot(b - a, b - a), 0.0, 1.0);
-                    best = std::min(best, glm::length(p - (a + t * (b - a))));
-                }
+                for (size_t i = 1; i < c.points.size(); ++i)
+                    best = std::min(best, core::distanceToSegment(p, c.points[i - 1], c.points[i]));
                 return best < rho;
             };
             core::Aabb box;

@@ -581,49 +581,53 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
             touched.push_back(sv.coord);
         }
     }
-    using CoordSet = std::unordered_map<LatticeCoord, char, LatticeCoordHash>;
-    auto sorted = [](const CoordSet& set) {
-        std::vector<LatticeCoord> order;
-        order.reserve(set.size());
-        for (const auto& [v, unused] : set)
-            order.push_back(v);
-        std::sort(order.begin(), order.end());  // coordinate order (x, then y, then z)
-        return order;
-    };
+    // Each sample collects three sets of targets (whose base weight to recompute, whose fit,
+    // whose weight): a target joins a set once, marked with the sample's number (a hash set
+    // per sample cost a tenth of placement on a finer lattice).
+    const uint32_t sampleMark = ++mSampleMark;
     // Adding never lowers the field and carving never raises it: the deconvolution's negative
     // side lobes would otherwise notch the clay next to an added stroke (and raise it next to
     // a carve), and they add ripple.
     auto clampToOp = [&](double w) {
         return mOp == ToolOp::Add ? std::max(w, 0.0) : std::min(w, 0.0);
     };
+    std::vector<LatticeCoord> affected;  // vertices whose weight must be recomputed
+    auto markAffected = [&](const LatticeCoord& v, Target& t) {
+        if (t.affectedMark == sampleMark) return;
+        t.affectedMark = sampleMark;
+        affected.push_back(v);
+    };
     // Base weights: the targets deconvolved and clamped, recomputed wherever the deconvolution
-    // stencil reaches a changed target.
-    CoordSet baseSet;
+    // stencil reaches a changed target. (Each is computed from the targets' changes alone, so
+    // the order does not matter.)
+    std::vector<std::pair<LatticeCoord, Target*>> baseList;
     for (const LatticeCoord& u : touched)
         for (const Tap& tap : mDeconvolve) {
             const LatticeCoord v{u.x + tap.offset.x, u.y + tap.offset.y, u.z + tap.offset.z};
-            if (mTargets.contains(v)) baseSet.emplace(v, 0);
+            Target* t = mTargets.find(v);
+            if (!t || t->baseMark == sampleMark) continue;
+            t->baseMark = sampleMark;
+            baseList.emplace_back(v, t);
         }
-    CoordSet affected;  // vertices whose weight must be recomputed
     for (const LatticeCoord& v : touched)
-        affected.emplace(v, 0);
-    for (const auto& [v, unused] : baseSet) {
+        markAffected(v, *mTargets.find(v));
+    for (const auto& [v, t] : baseList) {
         double w = 0;
         for (const Tap& tap : mDeconvolve) {
             const Target* u = mTargets.find(
                 LatticeCoord{v.x - tap.offset.x, v.y - tap.offset.y, v.z - tap.offset.z});
             if (u) w += tap.target * u->change;
         }
-        Target& t = *mTargets.find(v);
         w = clampToOp(w);
-        if (w == t.base) continue;
-        t.base = w;
-        affected.emplace(v, 0);
+        if (w == t->base) continue;
+        t->base = w;
+        markAffected(v, *t);
     }
     // The corrections follow the base weights within the support of a vertex's control point
     // and the targets and control points within the transfer's reach of it; the control
     // point lies within 2 radius + margin of the vertex. A stroke in empty space has no
-    // control points and no corrections.
+    // control points and no corrections. (A correction reads the base weights and shares
+    // around it, never another correction, so the order does not matter.)
     if (!touched.empty() && mAnyControl) {
         // The aim lies within 2 radius + margin of the vertex (the tool's extreme point, or
         // the old surface next to a carve, dropped beyond).
@@ -632,21 +636,24 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
                              std::max(mDeconvolveReach * tl.spacingMm + tl.supportMm,
                                       SweptTransfer::kReach * tl.spacingMm) +
                              aimReach;
-        CoordSet fitSet;
-        for (const SweptVertex& sv : sweptWithMirror(tl.spacingMm, a, p, reach, mMirror))
-            if (mTargets.contains(sv.coord)) fitSet.emplace(sv.coord, 0);
-        for (const LatticeCoord& u : sorted(fitSet)) {
-            Target& t = *mTargets.find(u);
-            const double c = fitCorrection(t);
-            if (c == t.correction) continue;
-            t.correction = c;
+        for (const SweptVertex& sv : sweptWithMirror(tl.spacingMm, a, p, reach, mMirror)) {
+            Target* t = mTargets.find(sv.coord);
+            if (!t || t->fitMark == sampleMark) continue;
+            t->fitMark = sampleMark;
+            const double c = fitCorrection(*t);
+            if (c == t->correction) continue;
+            t->correction = c;
+            const LatticeCoord& u = sv.coord;
             for (const Tap& tap : mDeconvolve) {
                 const LatticeCoord v{u.x + tap.offset.x, u.y + tap.offset.y, u.z + tap.offset.z};
-                if (mTargets.contains(v)) affected.emplace(v, 0);
+                if (Target* n = mTargets.find(v)) markAffected(v, *n);
             }
         }
     }
-    const std::vector<LatticeCoord> order = sorted(affected);
+    // In coordinate order, so the writes (and a mesher's replay of them) do not depend on the
+    // order the sets were collected in.
+    std::sort(affected.begin(), affected.end());
+    const std::vector<LatticeCoord>& order = affected;
 
     EditResult result;
     Aabb changed;

@@ -35,6 +35,9 @@ std::vector<SweptVertex> sweptVertices(double spacing, const Vec3& a, const Vec3
                     if (d <= reach) out.push_back({LatticeCoord{i, j, k}, std::min(d, radius)});
                 }
     }
+    // One box is walked in coordinate order, each vertex once; overlapping pieces need the
+    // sort and the merge.
+    if (pieces == 1) return out;
     std::sort(out.begin(), out.end(),
               [](const SweptVertex& l, const SweptVertex& r) { return l.coord < r.coord; });
     out.erase(

@@ -5,9 +5,11 @@
 /// Placement looks up every target within a few lattice spacings of each re-fitted target;
 /// in a node-based hash map each lookup walked a chain of separately allocated nodes (42 % of
 /// a stroke's placement time on a lattice one level below the tool's: docs/benchmarks.md).
-/// Here a lookup is one hash of the vertex's brick, skipped when it is the brick of the
-/// previous lookup, and an index into the brick. Values are never moved: references stay valid
-/// until the map is destroyed. Not thread-safe (the last brick is cached even in find()).
+/// Here a lookup is an index into the vertex's brick; the brick itself comes from a small
+/// direct-mapped cache of the bricks looked up recently (present or absent), keyed by the low
+/// bits of the brick coordinates, so a neighbourhood of up to 4^3 bricks is hashed once. Values
+/// are never moved: references stay valid until the map is destroyed. Not thread-safe (the
+/// cache is written even in find()).
 #include "vsculpt/core/Geometry.h"
 
 #include <array>
@@ -34,12 +36,12 @@ class LatticeMap {
     std::pair<T*, bool> tryEmplace(const LatticeCoord& v) {
         Brick* b = brick(v);
         if (!b) {
-            auto& owned = mBricks[brickOf(v)];
+            const LatticeCoord key = brickOf(v);
+            auto& owned = mBricks[key];
             owned = std::make_unique<Brick>();
             owned->slots.fill(-1);
             b = owned.get();
-            mLastKey = brickOf(v);
-            mLast = b;
+            mCache[cacheSlot(key)] = CacheEntry{key, b, true};  // it was cached as absent
         }
         int32_t& i = b->slots[slot(v)];
         if (i >= 0) return {&mValues[size_t(i)], false};
@@ -61,20 +63,28 @@ class LatticeMap {
     static size_t slot(const LatticeCoord& v) {
         return size_t((((v.x & kMask) << kShift | (v.y & kMask)) << kShift) | (v.z & kMask));
     }
+    struct CacheEntry {
+        LatticeCoord key;
+        Brick* brick = nullptr;  // nullptr: no brick there
+        bool valid = false;
+    };
+    static constexpr int kCacheBits = 2;  // per axis: 4^3 entries
+    static size_t cacheSlot(const LatticeCoord& key) {
+        constexpr int32_t m = (1 << kCacheBits) - 1;
+        return size_t((((key.x & m) << kCacheBits | (key.y & m)) << kCacheBits) | (key.z & m));
+    }
     Brick* brick(const LatticeCoord& v) const {
         const LatticeCoord key = brickOf(v);
-        if (mLast && key == mLastKey) return mLast;
+        CacheEntry& e = mCache[cacheSlot(key)];
+        if (e.valid && e.key == key) return e.brick;
         const auto it = mBricks.find(key);
-        if (it == mBricks.end()) return nullptr;
-        mLastKey = key;
-        mLast = it->second.get();
-        return mLast;
+        e = CacheEntry{key, it == mBricks.end() ? nullptr : it->second.get(), true};
+        return e.brick;
     }
 
     std::unordered_map<LatticeCoord, std::unique_ptr<Brick>, LatticeCoordHash> mBricks;
     std::deque<T> mValues;
-    mutable LatticeCoord mLastKey;
-    mutable Brick* mLast = nullptr;
+    mutable std::array<CacheEntry, size_t(1) << (3 * kCacheBits)> mCache{};
 };
 
 }  // namespace vsculpt::core

@@ -161,12 +161,16 @@ class StrokeBuilder {
         std::optional<Vec3> aim;
         double need = 0;
         double share = 0;
+        // The last sample that put this target in each of its sets (base weight to recompute,
+        // fit to recompute, weight to write): each joins a set once per sample.
+        uint32_t baseMark = 0, fitMark = 0, affectedMark = 0;
     };
     // The correction of a vertex's target that brings the new surface to the aim points
     // around it (docs/placement.md, closed-loop fit).
     double fitCorrection(const Target& t);
     double mDeconvolveReach = 0;  // the longest tap offset, lattice spacings
     bool mAnyControl = false;     // some target of this stroke has a control point
+    uint32_t mSampleMark = 0;     // the current sample's number (Target's marks)
     std::shared_ptr<const SweptTransfer> mTransfer;
     LatticeMap<Target> mTargets;
     struct Tap {

@@ -50,6 +50,31 @@ TEST(LatticeMap, HoldsWhatAnOrderedMapHoldsAndNeverMovesAValue) {
             }
 }
 
+// The map remembers the bricks it looked up last, absent ones too, in slots shared by bricks
+// 4 apart: lookups of absent vertices mixed with insertions, over 10 bricks per axis, must
+// still agree with std::map at every step (a brick cached as absent and then created, or a
+// slot's brick replaced by another, would show here).
+TEST(LatticeMap, LookupsOfAbsentVerticesMixedWithInsertionsStayExact) {
+    std::mt19937 rng(11);
+    std::uniform_int_distribution<int32_t> coord(-40, 39);
+    std::bernoulli_distribution insert(0.3);
+    LatticeMap<int> map;
+    std::map<LatticeCoord, int> reference;
+    for (int i = 0; i < 40000; ++i) {
+        const LatticeCoord v{coord(rng), coord(rng), coord(rng)};
+        if (insert(rng)) {
+            auto [value, inserted] = map.tryEmplace(v);
+            ASSERT_EQ(inserted, reference.try_emplace(v, i).second);
+            if (inserted) *value = i;
+        }
+        const auto it = reference.find(v);
+        const int* found = map.find(v);
+        ASSERT_EQ(found != nullptr, it != reference.end()) << i;
+        if (found) ASSERT_EQ(*found, it->second) << i;
+    }
+    EXPECT_EQ(map.size(), reference.size());
+}
+
 TEST(LatticeMap, NeighboursAcrossABrickBoundaryAreDistinct) {
     LatticeMap<int> map;
     *map.tryEmplace({-1, 0, 0}).first = 1;

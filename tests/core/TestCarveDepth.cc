@@ -507,11 +507,13 @@ TEST(CarveDepth, OnAFinerLatticeCarvesOnClayFollowTheTool) {
 }
 
 TEST(CarveDepth, ADabHasTheToolsSize) {
-    // Scale-free: every level gives the same numbers; two levels make sure.
+    // Scale-free: every level gives the same numbers; two levels make sure. The issue's
+    // tolerance, 5 %, in every one of 64 directions (the targets alone gave 0.935..0.979; the
+    // fit aimed at the tool's surface in empty space gives 0.989..1.014).
     for (int k : {2, 6}) {
         const Stats st = dabRadius(k);
-        EXPECT_NEAR(st.mean(), 1.0, 0.07) << "size " << k;
-        EXPECT_GE(st.min, 0.9) << "size " << k;
+        EXPECT_NEAR(st.mean(), 1.0, 0.02) << "size " << k;
+        EXPECT_GE(st.min, 0.95) << "size " << k;
         EXPECT_LE(st.max, 1.05) << "size " << k;
         EXPECT_GE(dabPit(k), 0.95) << "size " << k;
         EXPECT_LE(dabPit(k), 1.05) << "size " << k;

@@ -161,6 +161,7 @@ class StrokeBuilder {
         std::optional<Vec3> aim;
         double need = 0;
         double share = 0;
+        bool emptyAim = false;  // the aim is the tool's surface in empty space
         // The last sample that put this target in each of its sets (base weight to recompute,
         // fit to recompute, weight to write): each joins a set once per sample.
         uint32_t baseMark = 0, fitMark = 0, affectedMark = 0;

@@ -520,6 +520,40 @@ TEST(CarveDepth, ADabHasTheToolsSize) {
     }
 }
 
+// A stroke's ends are the tool's balls: from its first and its last sample, the surface lies
+// one tool radius away in every direction of the cap (within the 5 %), at both ends
+// alike. The targets alone left both caps 0.94 long; fitting only the first sample's left the
+// end 0.94 and the start 1.02. Straight strokes in three directions, a sample every 0.25 rho.
+TEST(CarveDepth, AStrokesEndsAreTheToolsBalls) {
+    for (const Vec3& dir : {Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0.83, 0.31, -0.46)}) {
+        Sculpture s(emptyConfig(PlacementMode::Swept));
+        const ToolLevel& tl = s.levels().level(4);
+        const double rho = 0.5 * tl.diameterMm;
+        const Vec3 d = glm::normalize(dir);
+        const Vec3 o = Vec3(0.29, 0.41, -0.17) * tl.spacingMm;
+        const Vec3 start = o - 4 * rho * d, end = o + 4 * rho * d;
+        applyStroke(s, ToolOp::Add, 4, linePath(start, end, 0.25 * rho));
+        FieldProbe probe(s);
+        // Directions of the cap: along the stroke and up to 60 degrees off it.
+        const Vec3 side = glm::normalize(glm::cross(d, Vec3(0.3, -0.5, 0.8)));
+        const Vec3 up = glm::cross(d, side);
+        Stats startCap, endCap;
+        for (double polar : {0.0, 30.0, 60.0})
+            for (int k = 0; k < (polar == 0 ? 1 : 8); ++k) {
+                const double th = glm::radians(polar), ph = k * std::numbers::pi / 4;
+                const Vec3 off = std::sin(th) * (std::cos(ph) * side + std::sin(ph) * up);
+                const Vec3 ahead = std::cos(th) * d + off, behind = -std::cos(th) * d + off;
+                endCap.add(firstCrossing(probe, end, ahead, 4 * rho, 0.02 * rho) / rho);
+                startCap.add(firstCrossing(probe, start, behind, 4 * rho, 0.02 * rho) / rho);
+            }
+        for (const Stats* cap : {&startCap, &endCap}) {
+            EXPECT_GE(cap->min, 0.95) << (cap == &endCap ? "end" : "start") << " " << dir.x;
+            EXPECT_LE(cap->max, 1.05) << (cap == &endCap ? "end" : "start") << " " << dir.x;
+        }
+        EXPECT_NEAR(startCap.mean(), endCap.mean(), 0.02) << dir.x << " " << dir.y;
+    }
+}
+
 TEST(CarveDepth, StraightStrokesAreSmooth) {
     // Local radius along a straight stroke within 5 % of D/2 in every direction (ripple and
     // direction bias together). The lattice, tool and support scale together, so one level

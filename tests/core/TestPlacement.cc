@@ -192,6 +192,7 @@ TEST_P(PlacementBothModes, WorldSpaceEditsLandInObjectSpace) {
     StrokeBuilder stroke(viaWorld, ToolOp::Add, 3);
     for (const Vec3& w : worldPath)
         stroke.addSampleWorld(w, worldFromObject);
+    stroke.finish();  // the stroke is complete only then (as applyStroke's)
     ASSERT_EQ(direct.store().vertexCount(), viaWorld.store().vertexCount());
     direct.store().forEach([&](const SkeletonEntry& e) {
         const auto w = viaWorld.store().get(e.level, e.coord);

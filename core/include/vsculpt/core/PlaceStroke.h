@@ -172,6 +172,7 @@ class StrokeBuilder {
     double mDeconvolveReach = 0;  // the longest tap offset, lattice spacings
     bool mAnyControl = false;     // some target of this stroke has a control point
     uint32_t mSampleMark = 0;     // the current sample's number (Target's marks)
+    bool mFinishingCap = false;   // finish(): fitting the end cap (addSampleSwept)
     std::shared_ptr<const SweptTransfer> mTransfer;
     LatticeMap<Target> mTargets;
     struct Tap {

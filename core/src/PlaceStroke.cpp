@@ -413,9 +413,9 @@ double StrokeBuilder::fitCorrection(const Target& t) {
     // not positive means the shares cannot reach the aim at all: no correction.)
     if (norm <= 1e-9) return 0;
     norm = std::max(norm, kFitNormFloor);
-    // In empty space there is no clay to leave a gap in: the fit there takes back too, which
-    // keeps a straight stroke's radius within 0.951..1.047 of the tool's (one-sided: up to
-    // 1.052).
+    // In empty space there is no clay to leave a gap in: the fit there takes back too (with
+    // aims at every vertex in empty space, one-sided pushed a stroke's radius to 1.052 of the
+    // tool's, two-sided kept it within 1.047).
     const bool oneSided = add && !t.emptyAim;
     if (oneSided && need <= predicted) return 0;
     const double f = t.change + (need - predicted) * t.share / norm;
@@ -519,18 +519,6 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
         }
         return df < dg ? f : g;
     };
-    // The path's closest point to x (on either segment with a mirror plane).
-    auto closestOnPath = [&](const Vec3& x) {
-        auto foot = [&](const Vec3& s0, const Vec3& s1) {
-            const Vec3 ab = s1 - s0;
-            const double len2 = glm::dot(ab, ab);
-            return len2 <= 0 ? s0 : s0 + ab * std::clamp(glm::dot(x - s0, ab) / len2, 0.0, 1.0);
-        };
-        const Vec3 f = foot(a, p);
-        if (mMirror == MirrorAxis::None) return f;
-        const Vec3 g = foot(am, pm);
-        return glm::length(x - f) <= glm::length(x - g) ? f : g;
-    };
     // The control point: the swept tool's extreme point into the material (carve) or out of
     // it (add) along the pre-stroke normal at the vertex, the tool centre being the path's
     // closest point to the vertex. Beside a segment that is the tube's extreme point, across
@@ -556,13 +544,20 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
             // stroke by 34-48 instead of 22-31 ms at p99 (the moving end's corrections
             // rewritten every sample). A carve has nothing to remove in empty space.
             if (mOp != ToolOp::Add || a != p) return std::nullopt;
-            const Vec3 foot = closestOnPath(pos);
-            const Vec3 d = pos - foot;
+            // The nearer ball's centre; with a mirror plane a vertex as near the mirrored ball
+            // as the original takes no aim, so that it stays symmetric.
+            Vec3 centre = a;
+            if (mMirror != MirrorAxis::None) {
+                const double df = glm::length(pos - a), dg = glm::length(pos - am);
+                if (std::abs(df - dg) <= 1e-9 * (df + dg + tl.spacingMm)) return std::nullopt;
+                if (dg < df) centre = am;
+            }
+            const Vec3 d = pos - centre;
             const double l = glm::length(d);
             if (l < 1e-6 * radius) return std::nullopt;
             mAnyControl = true;
             t.emptyAim = true;
-            return foot + d * (radius / l);
+            return centre + d * (radius / l);
         }
         mAnyControl = true;
         // The gradient points into the material.
@@ -698,11 +693,10 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
     // In coordinate order, so the writes (and a mesher's replay of them) do not depend on the
     // order the sets were collected in.
     std::sort(affected.begin(), affected.end());
-    const std::vector<LatticeCoord>& order = affected;
 
     EditResult result;
     Aabb changed;
-    for (const LatticeCoord& v : order) {
+    for (const LatticeCoord& v : affected) {
         // The base weight plus the deconvolved corrections, clamped again.
         double w = mTargets.find(v)->base;
         for (const Tap& tap : mDeconvolve) {

@@ -108,6 +108,27 @@ TEST(Mirror, EveryPlacementModeKeepsTheSymmetry) {
     }
 }
 
+// In empty space an add's caps aim at the tool's ball (docs/placement.md "In empty space"):
+// mirrored dabs and strokes, the two halves overlapping across the plane, stay exactly
+// symmetric, and the mirrored dab has the tool's size too.
+TEST(Mirror, CapsInEmptySpaceStaySymmetric) {
+    SculptConfig cfg;
+    cfg.sphereRadiusMm = 0;
+    Sculpture s(cfg);
+    const double rho = 0.5 * s.levels().level(4).diameterMm;
+    applyStroke(s, ToolOp::Add, 4, path({{0.3 * rho, 0.2, 0.1}}), nullptr, MirrorAxis::X);
+    applyStroke(s, ToolOp::Add, 3, path({{-9, 20, 3}, {4, 24, 5}, {12, 30, 2}}), nullptr,
+                MirrorAxis::X);
+    applyStroke(s, ToolOp::Add, 5, path({{20, -25, 0}, {35, -30, 8}}), nullptr, MirrorAxis::X);
+    EXPECT_LE(mirrorDefect(s, MirrorAxis::X), 1e-6);
+    // The dab's far side, away from the plane: one tool radius from its centre (5 %).
+    FieldProbe f(s);
+    EXPECT_GT(f.value(Vec3((0.3 + 0.95) * rho, 0.2, 0.1)), 0);
+    EXPECT_LT(f.value(Vec3((0.3 + 1.05) * rho, 0.2, 0.1)), 0);
+    EXPECT_GT(f.value(Vec3(-(0.3 + 0.95) * rho, 0.2, 0.1)), 0);
+    EXPECT_LT(f.value(Vec3(-(0.3 + 1.05) * rho, 0.2, 0.1)), 0);
+}
+
 TEST(Mirror, TheMeshIsMirrorSymmetric) {
     SculptConfig cfg;
     Sculpture s(cfg);

@@ -126,6 +126,7 @@ Polygonizer::Polygonizer(const Sculpture& sculpture, const GridRegion& region, d
     mBlocksPerAxis = region.n / kBlockCells;
     mBlocks.resize(size_t(mBlocksPerAxis) * mBlocksPerAxis * mBlocksPerAxis);
     mSums.resize(mBlocks.size());
+    mNoSurfaceBounds.assign(mBlocks.size(), kUnknownBounds);
     mSumsAt = sculpture.store().writeCount();
     const int c = chunksPerAxis();
     mChunkVersions.assign(size_t(c) * c * c, 0);
@@ -138,7 +139,8 @@ Aabb Polygonizer::blockBox(int bx, int by, int bz, int cells) const {
     return Aabb{mRegion.vertexPos(x, y, z), mRegion.vertexPos(x + cells, y + cells, z + cells)};
 }
 
-bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& evals) const {
+bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& evals,
+                             size_t& gathered) const {
     out.vertices.clear();
     out.triangles.clear();
     const Aabb box = blockBox(bx, by, bz, kBlockCells);
@@ -151,8 +153,16 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
     // The roots of edges no write reached since the last build can be kept (BlockSums).
     const BlockMesh* old = sums && sums->meshFromSums ? &mBlocks[blockIndex(bx, by, bz)] : nullptr;
     if (!sums) {
+        FieldBounds& kept = mNoSurfaceBounds[blockIndex(bx, by, bz)];
+        if (kept.min <= kept.max && !kept.mayContainSurface()) return false;
         field.emplace(mSculpture, box);
-        if (!field->bounds().mayContainSurface()) return false;
+        ++gathered;
+        const FieldBounds bounds = field->bounds();
+        if (!bounds.mayContainSurface()) {
+            kept = bounds;
+            return false;
+        }
+        kept = kUnknownBounds;
         // Each skeleton splatted onto the vertices it reaches (not every skeleton visited at
         // every vertex: piled-up clay has many small skeletons per block), in fixed point so
         // that noteWrites can keep the sums exact afterwards.
@@ -219,7 +229,10 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
                 return key;
             }
         }
-        if (!field) field.emplace(mSculpture, box);
+        if (!field) {
+            field.emplace(mSculpture, box);
+            ++gathered;
+        }
         double flo = values[ai][aj][ak], fhi = values[bi][bj][bk];
         // Always from the smaller end, so every block computing this edge gets the same bits.
         const bool loInside = flo > 0;
@@ -324,6 +337,7 @@ void Polygonizer::blockAxes(int bx, int by, int bz, double* xs, double* ys, doub
 void Polygonizer::dropSums() {
     for (auto& s : mSums)
         s.reset();
+    std::fill(mNoSurfaceBounds.begin(), mNoSurfaceBounds.end(), kUnknownBounds);
 }
 
 size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
@@ -356,11 +370,30 @@ size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
         const Term t{c, before, after, 1.0 / R, R * R, reach * reach};
         std::array<int, 3> lo{}, hi{};
         if (!blockRange(Aabb{t.c - Vec3(R), t.c + Vec3(R)}, lo, hi)) continue;
+        const double delta = after - before;
         for (int bx = lo[0]; bx <= hi[0]; ++bx)
             for (int by = lo[1]; by <= hi[1]; ++by)
                 for (int bz = lo[2]; bz <= hi[2]; ++bz) {
                     const size_t idx = blockIndex(bx, by, bz);
-                    if (mSums[idx]) hits.emplace_back(uint32_t(idx), uint32_t(terms.size()));
+                    if (mSums[idx]) {
+                        hits.emplace_back(uint32_t(idx), uint32_t(terms.size()));
+                        continue;
+                    }
+                    FieldBounds& kept = mNoSurfaceBounds[idx];
+                    if (kept.min > kept.max) continue;
+                    // The change's term over the block lies between 0 and delta F at the
+                    // block's point nearest the centre (F falls off); widened by
+                    // LocalField::bounds' rounding margin for the two terms a write splats
+                    // (the old weight out, the new one in). (The far corner's F, as
+                    // LocalField::bounds takes it, would be tighter by a little and cost a
+                    // second falloff evaluation per block: this loop is serial.)
+                    const Aabb box = blockBox(bx, by, bz, kBlockCells);
+                    const Vec3 nearest = glm::clamp(c, box.min, box.max);
+                    const double change = delta * falloff.value(glm::length(c - nearest) * t.invR);
+                    const double margin =
+                        1e-9 * (std::abs(before) + std::abs(after)) + 2 / kFixedPerUnit;
+                    kept.min += std::min(change, 0.0) - margin;
+                    kept.max += std::max(change, 0.0) + margin;
                 }
         terms.push_back(t);
     }
@@ -466,6 +499,7 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
     // 1: rebuilt; 0: skipped after a cancel (still stale).
     std::vector<char> finished(blocks.size(), 1);
     tbb::combinable<size_t> evals([] { return size_t(0); });
+    tbb::combinable<size_t> gathered([] { return size_t(0); });
     auto work = [&](size_t i) {
         const auto& b = blocks[i];
         if (cancel && cancel->load(std::memory_order_relaxed)) {
@@ -477,7 +511,8 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
         thread_local BlockMesh fresh;
         fresh.vertices.clear();
         fresh.triangles.clear();
-        if (!culled[i] && !buildBlock(b[0], b[1], b[2], fresh, evals.local())) culled[i] = 1;
+        if (!culled[i] && !buildBlock(b[0], b[1], b[2], fresh, evals.local(), gathered.local()))
+            culled[i] = 1;
         BlockMesh& slot = mBlocks[blockIndex(b[0], b[1], b[2])];
         // Which neighbouring blocks see a difference: bit s (0..7) set when the blocks at
         // offset -s (bit 0 = x, 1 = y, 2 = z) use something that changed. Bit 0: this block.
@@ -525,6 +560,7 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
             work(i);
 
     stats.evaluations = evals.combine(std::plus<size_t>());
+    stats.blocksGathered = gathered.combine(std::plus<size_t>());
     const int c = chunksPerAxis(), per = kChunkCells / kBlockCells;
     std::vector<char> chunkChanged(mChunkVersions.size(), 0);
     for (size_t i = 0; i < blocks.size(); ++i) {

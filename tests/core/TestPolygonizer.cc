@@ -295,6 +295,71 @@ TEST(Polygonizer, KeptGridSumsFollowTheWritesExactly) {
     }
 }
 
+// Blocks no surface passes through (empty or solid) keep their bounds, widened by every noted
+// write that reaches them, so meshing them again gathers no skeletons until a write could put
+// surface in them. Sound bounds must stay sound: clay grown into kept-empty blocks and carved
+// into kept-solid ones (the sphere's core) must still equal a full rebuild, in both modes.
+TEST(Polygonizer, BlocksKeptEmptyOrSolidAreSkippedUntilAWriteReachesThem) {
+    for (PlacementMode mode : {PlacementMode::Swept, PlacementMode::Free}) {
+        SculptConfig cfg = emptyConfig(mode);
+        cfg.sphereRadiusMm = 30;
+        cfg.polygonizer.gridN = 48;
+        Sculpture s(cfg);
+        const GridRegion region = zoomRegion(cfg, s.levels(), 1, Vec3(0.0));
+        Polygonizer kept(s, region, cfg.polygonizer.rootTolerance);
+        kept.rebuildAll();
+        std::vector<SkeletonWrite> writes;
+        s.store().logWritesTo(&writes);
+        // Every block once (rebuildAll culls whole chunks first, which keeps nothing), then
+        // again with nothing written in between: nothing is gathered the second time.
+        const PolygonizeStats first = kept.update(region.box());
+        EXPECT_GT(first.blocksGathered, 0u) << toString(mode);
+        const PolygonizeStats again = kept.update(region.box());
+        EXPECT_EQ(again.blocksGathered, 0u) << toString(mode);
+        EXPECT_EQ(again.blocksConsidered, first.blocksConsidered);
+        // Adds from the sphere out into empty blocks, a carve through its solid core, an add
+        // into empty space that leaves the blocks beyond its reach empty, and undo of all.
+        struct Stroke {
+            ToolOp op;
+            int level;
+            Vec3 a, b;
+        };
+        const std::array<Stroke, 4> strokes{{
+            {ToolOp::Add, 4, Vec3(20, 5, 18), Vec3(36, 10, 30)},
+            {ToolOp::Carve, 5, Vec3(-40, 0, 0), Vec3(40, 2, 3)},
+            {ToolOp::Add, 3, Vec3(-10, 45, -10), Vec3(10, 48, -12)},
+            {ToolOp::Add, 6, Vec3(0, -20, -20), Vec3(0, -36, -36)},
+        }};
+        std::vector<std::vector<SkeletonChange>> done;
+        size_t skipped = 0;
+        for (const Stroke& st : strokes) {
+            StrokeBuilder builder(s, st.op, st.level);
+            auto remesh = [&](const EditResult& r) {
+                kept.noteWrites(writes);
+                writes.clear();
+                const PolygonizeStats ps = kept.update(r.changedPoints, r.supportMm);
+                skipped += ps.blocksConsidered - ps.blocksGathered;
+            };
+            for (const Vec3& p : linePath(st.a, st.b, 0.4 * s.levels().level(st.level).diameterMm))
+                remesh(builder.addSample(p));
+            remesh(builder.finish());
+            done.push_back(builder.takeChanges());
+            ASSERT_EQ(kept.verifyAgainstFullRebuild(), "")
+                << toString(mode) << " after the stroke from " << st.a.x << " " << st.a.y << " "
+                << st.a.z;
+        }
+        EXPECT_GT(skipped, 0u) << toString(mode);
+        for (size_t u = done.size(); u-- > 0;) {
+            const Aabb box = revertChanges(s, done[u]);
+            kept.noteWrites(writes);
+            writes.clear();
+            kept.update(box);
+            ASSERT_EQ(kept.verifyAgainstFullRebuild(), "") << toString(mode) << " undo " << u;
+        }
+        s.store().logWritesTo(nullptr);
+    }
+}
+
 // Swept strokes piled on clay reach weights of 1e7 and field values of 1e8 (measured on the
 // benchmark's model): terms of that size do not fit 64-bit sums at 2^-40, and a wrapped sum
 // made neighbouring blocks disagree about the surface ("a triangle uses an edge its owner did

@@ -40,6 +40,7 @@ struct PolygonizeStats {
     size_t blocksConsidered = 0;  ///< blocks in the rebuilt range
     size_t blocksCulled = 0;      ///< skipped: no surface can pass through them
     size_t evaluations = 0;       ///< field evaluations (grid vertices, bisection, gradients)
+    size_t blocksGathered = 0;    ///< blocks whose skeletons were gathered (a LocalField each)
     size_t chunksChanged = 0;     ///< chunks whose mesh differs from before
     std::vector<std::array<int, 3>> changedChunks;  ///< their indices, for re-upload
     /// Blocks a cancelled rebuild did not reach (Polygonizer::rebuildBlocks): still stale.
@@ -144,7 +145,9 @@ class Polygonizer {
     }
     Aabb blockBox(int bx, int by, int bz, int cells) const;
     /// Returns false when the block was culled (no surface can pass through it).
-    bool buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& evaluations) const;
+    /// `evaluations` and `gathered` (blocks whose skeletons it gathered) are added to.
+    bool buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& evaluations,
+                    size_t& gathered) const;
     PolygonizeStats rebuild(const std::vector<std::array<int, 3>>& blocks, bool threaded,
                             bool cullChunksFirst, const std::atomic<bool>* cancel = nullptr);
 
@@ -171,6 +174,14 @@ class Polygonizer {
     };
     static constexpr size_t kMaxTouched = 64;
     mutable std::vector<std::unique_ptr<BlockSums>> mSums;
+    // For blocks without sums whose bounds showed that no surface passes through them (empty
+    // or solid): those bounds, widened by every write noteWrites saw reach the block since, so
+    // that a block a write reaches but leaves empty (or solid) is skipped without gathering its
+    // skeletons again. Sound bounds stay sound under widening, so what is skipped is exactly
+    // what a full rebuild culls or meshes to nothing. kUnknownBounds where not kept; current
+    // for mSumsAt, like the sums.
+    static constexpr FieldBounds kUnknownBounds{1, -1};
+    mutable std::vector<FieldBounds> mNoSurfaceBounds;
     uint64_t mSumsAt = 0;
     void dropSums();
     /// Block indices whose closed boxes may touch `box` (one block of slack each side),

@@ -170,7 +170,6 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
         blockAxes(bx, by, bz, xs, ys, zs);
         sums = std::make_unique<BlockSums>();
         field->gridSums(xs, ys, zs, sums->values.data());
-        sums->skeletons = field->skeletonCount();
         evals += V * V * V;
     }
     const double iso = mSculpture.levels().iso();
@@ -397,9 +396,11 @@ size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
                 }
         terms.push_back(t);
     }
-    // Per block: its terms, in any order (integer sums). A block that many writes reach is
-    // cheaper to evaluate afresh at its rebuild (one splat per skeleton it gathers) than to
-    // update (two per write): its sums are dropped instead.
+    // Per block: its terms, in any order (integer sums). Every block's sums are updated, even
+    // where more writes reach it than half the skeletons it gathered: evaluating it afresh
+    // would cost fewer splats, but also a gathering, and every edge root the writes did not
+    // reach (dropping such sums, as done before, measured the same at zoom 5 and up to 12 %
+    // slower at p99 at zoom 3 in swept mode; docs/benchmarks.md).
     std::sort(hits.begin(), hits.end());
     std::vector<std::pair<size_t, size_t>> groups;
     for (size_t i = 0; i < hits.size();) {
@@ -415,10 +416,6 @@ size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
             const auto [first, last] = groups[g];
             const uint32_t idx = hits[first].first;
             std::unique_ptr<BlockSums>& sums = mSums[idx];
-            if (2 * (last - first) > sums->skeletons) {
-                sums.reset();
-                continue;
-            }
             const int bz = int(idx % size_t(mBlocksPerAxis)),
                       by = int(idx / size_t(mBlocksPerAxis) % size_t(mBlocksPerAxis)),
                       bx = int(idx / (size_t(mBlocksPerAxis) * size_t(mBlocksPerAxis)));

@@ -92,9 +92,7 @@ class Polygonizer {
     /// grid evaluations, whatever the number of skeletons piled up on it. Without this call
     /// (or when the writes do not account for every write the store saw) the kept sums are
     /// dropped at the next rebuild and evaluated afresh: same mesh, more work.
-    /// Returns the number of block updates made (one skeleton's term over one block). A block
-    /// reached by more writes than half the skeletons it gathered drops its sums instead:
-    /// evaluating it afresh costs less.
+    /// Returns the number of block updates made (one skeleton's term over one block).
     size_t noteWrites(std::span<const SkeletonWrite> writes);
 
     const GridRegion& region() const { return mRegion; }
@@ -163,7 +161,6 @@ class Polygonizer {
     // evaluated. Written during a rebuild only by the thread building that block.
     struct BlockSums {
         std::array<FixedSum, (kBlockCells + 1) * (kBlockCells + 1) * (kBlockCells + 1)> values;
-        size_t skeletons = 0;  // gathered when the sums were made: the cost of making them again
         // The block's mesh (mBlocks) was built with these sums, and `touched` holds the support
         // balls (centre, squared radius with a rounding margin) of every write that reached the
         // block since: an edge that none of them reaches has the same field along it, bit for

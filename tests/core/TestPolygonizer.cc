@@ -294,21 +294,45 @@ TEST(Polygonizer, KeptGridSumsFollowTheWritesExactly) {
     }
 }
 
+// A sphere, a polygonizer over zoom 1's region built in full, and the store's writes logged
+// for Polygonizer::noteWrites.
+struct NotedSphere {
+    Sculpture s;
+    GridRegion region;
+    Polygonizer kept;
+    std::vector<SkeletonWrite> writes;
+    static SculptConfig sized(SculptConfig cfg, double radiusMm, int gridN) {
+        cfg.sphereRadiusMm = radiusMm;
+        cfg.polygonizer.gridN = gridN;
+        return cfg;
+    }
+    NotedSphere(const SculptConfig& cfg, double radiusMm, int gridN)
+        : s(sized(cfg, radiusMm, gridN)),
+          region(zoomRegion(s.config(), s.levels(), 1, Vec3(0.0))),
+          kept(s, region, s.config().polygonizer.rootTolerance) {
+        kept.rebuildAll();
+        s.store().logWritesTo(&writes);
+    }
+    ~NotedSphere() { s.store().logWritesTo(nullptr); }
+    NotedSphere(const NotedSphere&) = delete;
+    NotedSphere& operator=(const NotedSphere&) = delete;
+    /// Tells the polygonizer what was written since the last call.
+    void note() {
+        kept.noteWrites(writes);
+        writes.clear();
+    }
+};
+
 // Blocks no surface passes through (empty or solid) keep their bounds, widened by every noted
 // write that reaches them, so meshing them again gathers no skeletons until a write could put
 // surface in them. Sound bounds must stay sound: clay grown into kept-empty blocks and carved
 // into kept-solid ones (the sphere's core) must still equal a full rebuild, in both modes.
 TEST(Polygonizer, BlocksKeptEmptyOrSolidAreSkippedUntilAWriteReachesThem) {
     for (PlacementMode mode : {PlacementMode::Swept, PlacementMode::Free}) {
-        SculptConfig cfg = emptyConfig(mode);
-        cfg.sphereRadiusMm = 30;
-        cfg.polygonizer.gridN = 48;
-        Sculpture s(cfg);
-        const GridRegion region = zoomRegion(cfg, s.levels(), 1, Vec3(0.0));
-        Polygonizer kept(s, region, cfg.polygonizer.rootTolerance);
-        kept.rebuildAll();
-        std::vector<SkeletonWrite> writes;
-        s.store().logWritesTo(&writes);
+        NotedSphere n(emptyConfig(mode), 30, 48);
+        Sculpture& s = n.s;
+        Polygonizer& kept = n.kept;
+        const GridRegion& region = n.region;
         // Every block once (rebuildAll culls whole chunks first, which keeps nothing), then
         // again with nothing written in between: nothing is gathered the second time.
         const PolygonizeStats first = kept.update(region.box());
@@ -334,8 +358,7 @@ TEST(Polygonizer, BlocksKeptEmptyOrSolidAreSkippedUntilAWriteReachesThem) {
         for (const Stroke& st : strokes) {
             StrokeBuilder builder(s, st.op, st.level);
             auto remesh = [&](const EditResult& r) {
-                kept.noteWrites(writes);
-                writes.clear();
+                n.note();
                 const PolygonizeStats ps = kept.update(r.changedPoints, r.supportMm);
                 skipped += ps.blocksConsidered - ps.blocksGathered;
             };
@@ -350,12 +373,10 @@ TEST(Polygonizer, BlocksKeptEmptyOrSolidAreSkippedUntilAWriteReachesThem) {
         EXPECT_GT(skipped, 0u) << toString(mode);
         for (size_t u = done.size(); u-- > 0;) {
             const Aabb box = revertChanges(s, done[u]);
-            kept.noteWrites(writes);
-            writes.clear();
+            n.note();
             kept.update(box);
             ASSERT_EQ(kept.verifyAgainstFullRebuild(), "") << toString(mode) << " undo " << u;
         }
-        s.store().logWritesTo(nullptr);
     }
 }
 
@@ -365,15 +386,10 @@ TEST(Polygonizer, BlocksKeptEmptyOrSolidAreSkippedUntilAWriteReachesThem) {
 // not compute"). Huge weights of both signs, cancelling near the surface, must keep the kept
 // sums exact and the mesh equal to a full rebuild.
 TEST(Polygonizer, KeptGridSumsHoldHugeWeights) {
-    SculptConfig cfg = emptyConfig(PlacementMode::Swept);
-    cfg.sphereRadiusMm = 20;
-    cfg.polygonizer.gridN = 32;
-    Sculpture s(cfg);
-    const GridRegion region = zoomRegion(cfg, s.levels(), 1, Vec3(0.0));
-    Polygonizer kept(s, region, cfg.polygonizer.rootTolerance);
-    kept.rebuildAll();
-    std::vector<SkeletonWrite> writes;
-    s.store().logWritesTo(&writes);
+    NotedSphere n(emptyConfig(PlacementMode::Swept), 20, 32);
+    Sculpture& s = n.s;
+    Polygonizer& kept = n.kept;
+    const GridRegion& region = n.region;
     const std::array<std::pair<LatticeCoord, float>, 4> edits = {{
         {LatticeCoord{4, 0, 0}, 3.0e7f},
         {LatticeCoord{5, 0, 0}, -3.0e7f},
@@ -384,8 +400,7 @@ TEST(Polygonizer, KeptGridSumsHoldHugeWeights) {
     const double support = s.levels().level(level).supportMm;
     for (const auto& [coord, w] : edits) {
         s.store().set(level, coord, w);
-        kept.noteWrites(writes);
-        writes.clear();
+        n.note();
         const Vec3 p = Vec3(coord.x, coord.y, coord.z) * s.levels().level(level).spacingMm;
         kept.update(std::span<const Vec3>(&p, 1), support);
         EXPECT_EQ(kept.verifyAgainstFullRebuild(), "") << "after weight " << w;
@@ -408,11 +423,10 @@ TEST(Polygonizer, KeptGridSumsHoldHugeWeights) {
             for (int k = 0; k < 5; ++k) {
                 const double v = local.value(Vec3(xs[i], ys[j], zs[k]));
                 largest = std::max(largest, std::abs(v));
-                EXPECT_NEAR(fixedToField(sums[(i * 5 + j) * 5 + k], cfg.iso), v, 1e-6)
+                EXPECT_NEAR(fixedToField(sums[(i * 5 + j) * 5 + k], s.config().iso), v, 1e-6)
                     << i << j << k;
             }
     EXPECT_GT(largest, 1e6);  // the huge terms do reach the block
-    s.store().logWritesTo(nullptr);
 }
 
 /// The distance from p to the surface f = 0 along the gradient line through p (found by

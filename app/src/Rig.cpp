@@ -276,6 +276,17 @@ std::string Rig::save() {
     return "saved " + mStudio->session().projectDir()->string();
 }
 
+void Rig::close() {
+    mStudio->endStroke();
+    if (!mStudio->session().hasJournaledEdits()) return;
+    try {
+        mStudio->save();
+        spdlog::info("saved {}", mStudio->session().projectDir()->string());
+    } catch (const std::exception& e) {
+        spdlog::warn("closing without a new snapshot ({}); the journal keeps every edit", e.what());
+    }
+}
+
 std::string Rig::saveAs(const std::filesystem::path& dir) {
     if (std::filesystem::exists(dir) && !std::filesystem::is_empty(dir))
         throw core::ProjectError(dir.string() + ": save as needs a new or empty folder");

@@ -550,7 +550,8 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
         if (last) running = false;
     }
     if (o.uiReport) *o.uiReport = uiState;
-    rig->studio().endStroke();
+    // Closing ends the stroke in flight (journaled like any other) and snapshots the project.
+    rig->close();
     spdlog::info("{} frame(s), {} page(s), {} step(s), {} skeletons", frame,
                  rig->studio().document().pageCount(), rig->studio().stepCount(),
                  rig->session().sculpture().counts().total());

@@ -404,8 +404,8 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         viewer->setTitle(title);
         if (last) running = false;
     }
-    // Closing ends the stroke in flight: it is journaled like any other.
-    rig->studio().endStroke();
+    // Closing ends the stroke in flight (journaled like any other) and snapshots the project.
+    rig->close();
     if (o.report) {
         WindowOptions::Report& r = *o.report;
         const Session& s = rig->session();

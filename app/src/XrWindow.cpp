@@ -297,8 +297,8 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
         spdlog::error("openxr: {}", e.what());
         code = 1;
     }
-    // Closing ends the stroke in flight: it is journaled like any other.
-    rig->studio().endStroke();
+    // Closing ends the stroke in flight (journaled like any other) and snapshots the project.
+    rig->close();
     if (recording) {
         recording->write({devices::DeviceEventKind::Left, devices::monotonicNowNs(), recorded, {}});
         recording->flush();

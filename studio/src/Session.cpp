@@ -101,6 +101,7 @@ std::unique_ptr<Session> Session::openProject(const std::filesystem::path& dir,
     s->mProjectDir = dir;
     s->mReadOnly = readOnly;
     s->mSequence = lastSeq;
+    s->mSnapshotSequence = lastSeq;
     for (const JournalRecord& r : found.records) {
         if (r.sequence <= s->mSequence) continue;  // already in the snapshot
         core::applyJournalRecord(*s->mSculpture, s->mHistory, r);
@@ -489,6 +490,7 @@ void Session::save() {
     if (mReadOnly) throw SessionError("the project is open read-only: nothing to save");
     saveProject(*mProjectDir, projectConfigJson(mConfig), mSequence, *mSculpture, mHistory,
                 *mJournal);
+    mSnapshotSequence = mSequence;
 }
 
 std::string Session::verifyMesh() const {

@@ -219,6 +219,13 @@ TEST(ProjectSafety, TheWindowSavesToAnAutosaveProjectAndReopensIt) {
         strokes = s->history().done().size();
         EXPECT_EQ(strokes, 4u);  // every stroke journaled, none lost on closing
     }
+    // Closing wrote a snapshot of them: the next start reads it and replays nothing (through
+    // placement rules that may have changed since).
+    EXPECT_EQ(core::readJournal(core::journalPath(projects[0])).records.size(), 0u);
+    const core::RecoveredProject stored = core::readProject(projects[0]);
+    ASSERT_TRUE(stored.snapshot.has_value());
+    EXPECT_EQ(stored.snapshot->lastSequence, 4u);
+    EXPECT_TRUE(stored.records.empty());
     // The next window continues the same project (the script adds its strokes again).
     const auto [code2, log2] = run(args, dir, env);
     ASSERT_EQ(code2, 0) << log2;

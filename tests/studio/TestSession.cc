@@ -178,6 +178,35 @@ TEST(Session, ProjectSaveAndReopenGivesTheSameSculptureAndHistory) {
     EXPECT_EQ(viewHash(*s), viewHash(fresh));
 }
 
+// What the windows snapshot when they close: edits in the journal that the snapshot lacks.
+TEST(Session, JournaledEditsAreThoseTheSnapshotLacks) {
+    TempDir dir;
+    {
+        auto s = Session::openProject(dir.path, smallConfig());
+        EXPECT_FALSE(s->hasJournaledEdits());  // a new project starts with its snapshot
+        sculptSome(*s, 2, 3);
+        EXPECT_TRUE(s->hasJournaledEdits());
+        s->save();
+        EXPECT_FALSE(s->hasJournaledEdits());
+        s->undo();
+        EXPECT_TRUE(s->hasJournaledEdits());  // an undo is an edit too
+    }
+    {
+        auto s = Session::openProject(dir.path, core::SculptConfig{});
+        EXPECT_EQ(s->recoveredEdits(), 1u);
+        EXPECT_TRUE(s->hasJournaledEdits());  // replayed from the journal, not yet snapshotted
+        auto r = Session::openProject(dir.path, core::SculptConfig{}, ProjectMode::ReadOnly);
+        EXPECT_FALSE(r->hasJournaledEdits());  // read-only: nothing it could save
+        s->save();
+    }
+    auto s = Session::openProject(dir.path, core::SculptConfig{});
+    EXPECT_EQ(s->recoveredEdits(), 0u);
+    EXPECT_FALSE(s->hasJournaledEdits());
+    Session plain(smallConfig());  // no project
+    sculptSome(plain, 1, 3);
+    EXPECT_FALSE(plain.hasJournaledEdits());
+}
+
 TEST(Session, AProjectKeepsThePlacementModeItWasMadeWith) {
     // Made in `free` mode (the default before `swept`): reopened with today's default config,
     // its journal replays with the rule that made it, to the same mesh.

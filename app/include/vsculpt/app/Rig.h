@@ -108,6 +108,12 @@ class Rig {
 
     /// Save: a snapshot of the project (nothing to do without one). Returns what it did.
     std::string save();
+    /// What a window does as it closes: ends the stroke in flight (journaled like any other)
+    /// and, when the journal holds edits the snapshot does not, writes a snapshot, so the
+    /// next start reads the clay as it was instead of replaying every stroke (through the
+    /// placement rules of whatever version opens it). A failed snapshot is logged as a
+    /// warning: the journal still holds every edit.
+    void close();
     /// Save as: the whole project copied to `dir` (a new folder) and continued there; the
     /// old project stays as it was at this moment. Returns what it did.
     std::string saveAs(const std::filesystem::path& dir);

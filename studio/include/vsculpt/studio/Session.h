@@ -116,6 +116,12 @@ class Session {
     /// (projects only; no-op otherwise). Throws SessionError for a read-only project.
     void save();
     bool readOnly() const { return mReadOnly; }
+    /// A writable project whose journal holds edits its snapshot does not: what the windows
+    /// save when they close, so that reopening reads a snapshot instead of replaying every
+    /// stroke through the placement rules of the version that opens it.
+    bool hasJournaledEdits() const {
+        return mProjectDir && !mReadOnly && mSequence != mSnapshotSequence;
+    }
 
     /// `--check`: empty when the incremental mesh equals a full rebuild (in async mode: once
     /// the mesher has caught up with every edit).
@@ -217,6 +223,7 @@ class Session {
     std::unique_ptr<core::JournalWriter> mJournal;
     bool mReadOnly = false;
     uint64_t mSequence = 0;
+    uint64_t mSnapshotSequence = 0;  // the last edit the project's snapshot holds
     std::string mRecoveryWarning;
     size_t mRecovered = 0;
 };

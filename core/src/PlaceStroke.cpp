@@ -349,6 +349,7 @@ EditResult StrokeBuilder::addSample(const Vec3& p) {
     }
     const Vec3 a = mLast.value_or(p);
     mLast = p;
+    mFinished = false;
     if (mOp == ToolOp::Smooth) return addSmoothSample(a, p);
     return mSculpture.config().placement == PlacementMode::Swept ? addSampleSwept(a, p)
                                                                  : addSampleOnTool(a, p);
@@ -728,7 +729,16 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
     return result;
 }
 
+std::vector<SkeletonChange> StrokeBuilder::takeChanges() {
+    if (!mFinished && !mChanges.empty())
+        throw std::logic_error(
+            "StrokeBuilder::takeChanges before finish(): the stroke's end cap "
+            "and held-back changes would be missing");
+    return std::move(mChanges);
+}
+
 EditResult StrokeBuilder::finish() {
+    mFinished = true;
     EditResult result;
     // A swept add's end cap in empty space is fitted to the tool's ball now that it stays
     // where it is (addSampleSwept: during the stroke only the first sample's are).

@@ -129,6 +129,7 @@ DenseModel& denseModel(size_t n) {
             if (!keep(p + dir * step)) dir = -dir;
             p += dir * step;
         }
+        stroke.finish();
         record.changes = stroke.takeChanges();
         m.history.push(std::move(record));
     };
@@ -673,6 +674,9 @@ void BM_FrameLoop(benchmark::State& state) {
                     delay.push_back(msSince(sampleTime, w1));
                     missed += w1 - sampleTime > period;
                 }
+                // The stroke's end (after the frames measured).
+                const EditResult end = stroke.finish();
+                poly.update(end.changedPoints, end.supportMm);
                 changes = stroke.takeChanges();
             }
             state.PauseTiming();

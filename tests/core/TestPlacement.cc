@@ -303,6 +303,22 @@ TEST(PlacementSwept, AWeightBeyondFloatRangeIsRefusedNotStored) {
     EXPECT_EQ(nonFinite, 0u);
 }
 
+// A stroke is complete only after finish() (its held-back changes, a swept add's end cap):
+// handing its changes over before that is a caller's bug, refused rather than recorded short.
+TEST(Placement, ChangesAreHandedOverOnlyAfterFinish) {
+    SculptConfig cfg;  // swept, the initial sphere
+    Sculpture s(cfg);
+    StrokeBuilder stroke(s, ToolOp::Add, 5);
+    EXPECT_TRUE(stroke.takeChanges().empty());  // nothing placed: nothing to finish
+    stroke.addSample(Vec3(0, 0, 42));
+    EXPECT_THROW(stroke.takeChanges(), std::logic_error);
+    stroke.finish();
+    stroke.addSample(Vec3(4, 0, 42));  // the stroke goes on: finished no longer
+    EXPECT_THROW(stroke.takeChanges(), std::logic_error);
+    stroke.finish();
+    EXPECT_FALSE(stroke.takeChanges().empty());
+}
+
 TEST(PlacementSwept, HeldBackChangesAllReachTheStoreAtTheStrokesEnd) {
     for (ToolOp op : {ToolOp::Add, ToolOp::Carve}) {
         SculptConfig cfg;  // swept, the initial sphere

@@ -242,13 +242,15 @@ TEST(Polygonizer, KeptGridSumsFollowTheWritesExactly) {
                 StrokeBuilder builder(s, stroke % 3 == 2 ? ToolOp::Carve : ToolOp::Add, level);
                 const Vec3 a = focus + Vec3(U(rng), U(rng), U(rng)),
                            b = focus + Vec3(U(rng), U(rng), U(rng));
-                for (const Vec3& p : linePath(a, b, 0.4 * s.levels().level(level).diameterMm)) {
-                    const EditResult r = builder.addSample(p);
+                auto remesh = [&](const EditResult& r) {
                     terms += kept.noteWrites(writes);
                     writes.clear();
                     keptEvals += kept.update(r.changedPoints, r.supportMm).evaluations;
                     freshEvals += fresh.update(r.changedPoints, r.supportMm).evaluations;
-                }
+                };
+                for (const Vec3& p : linePath(a, b, 0.4 * s.levels().level(level).diameterMm))
+                    remesh(builder.addSample(p));
+                remesh(builder.finish());
                 strokes.push_back(builder.takeChanges());
                 Polygonizer full(s, region, cfg.polygonizer.rootTolerance);
                 full.rebuildAll();

@@ -100,7 +100,9 @@ class StrokeBuilder {
     /// Every vertex change so far, one per vertex (before: the state before the stroke,
     /// after: the current one).
     const std::vector<SkeletonChange>& changes() const { return mChanges; }
-    std::vector<SkeletonChange> takeChanges() { return std::move(mChanges); }
+    /// Hands the changes over. @pre finish() was called after the last sample (a stroke that
+    /// placed something is complete only then): std::logic_error otherwise.
+    std::vector<SkeletonChange> takeChanges();
 
   private:
     double preStrokeRawSum(const LatticeCoord& v, const Vec3& pos);
@@ -173,6 +175,7 @@ class StrokeBuilder {
     bool mAnyControl = false;     // some target of this stroke has a control point
     uint32_t mSampleMark = 0;     // the current sample's number (Target's marks)
     bool mFinishingCap = false;   // finish(): fitting the end cap (addSampleSwept)
+    bool mFinished = false;       // finish() was called after the last sample
     std::shared_ptr<const SweptTransfer> mTransfer;
     LatticeMap<Target> mTargets;
     struct Tap {

@@ -738,7 +738,6 @@ std::vector<SkeletonChange> StrokeBuilder::takeChanges() {
 }
 
 EditResult StrokeBuilder::finish() {
-    mFinished = true;
     EditResult result;
     // A swept add's end cap in empty space is fitted to the tool's ball now that it stays
     // where it is (addSampleSwept: during the stroke only the first sample's are).
@@ -752,6 +751,7 @@ EditResult StrokeBuilder::finish() {
         }
         mFinishingCap = false;
     }
+    mFinished = true;
     if (mHeld.empty()) return result;
     std::vector<std::pair<LatticeCoord, std::optional<float>>> held(mHeld.begin(), mHeld.end());
     mHeld.clear();

@@ -100,7 +100,7 @@ run_ctest() {
   fi
   [ $rc = 0 ] && [ ! -s "$LOG_DIR/run$runs.reports" ] && return 0
   # What failed: the tests ctest lists as failed and the tests with a report.
-  local failed tracer_only t
+  local failed tracer_only t settled k name_re log rerun_rc
   failed=$( { awk '/^The following tests FAILED:/ { f = 1; next }
                    f && /^[[:space:]]+[0-9]+ - / { sub(/^[[:space:]]+[0-9]+ - /, "");
                                                    sub(/ \([^)]*\)$/, ""); print; next }
@@ -114,12 +114,12 @@ run_ctest() {
   rc=0
   while IFS= read -r t; do
     if ! grep -qxF -- "$t" <<< "$tracer_only"; then rc=1; continue; fi
-    local settled=0 k
+    settled=0
+    name_re=$(printf '%s' "$t" | sed 's/[][\.*^$+?(){}|\\/]/\\&/g')
     for k in 1 2; do
-      local name_re log="$LOG_DIR/run$runs.rerun$k.log"
-      name_re=$(printf '%s' "$t" | sed 's/[][\.*^$+?(){}|\\/]/\\&/g')
+      log="$LOG_DIR/run$runs.rerun$k.log"
       echo "== sanitize: $t: LeakSanitizer crashed at exit (no leak report); rerun $k"
-      local rerun_rc=0
+      rerun_rc=0
       ctest --test-dir "$BUILD_DIR" --output-on-failure --timeout 900 --no-tests=error \
             -R "^${name_re}\$" || rerun_rc=1
       cp "$BUILD_DIR/Testing/Temporary/LastTest.log" "$log"

@@ -508,12 +508,17 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
         const double l = glm::length(across);
         return {foot, l > 1e-6 ? across / l : n};
     };
+    // Whether a vertex lies as near the mirrored path as the original (to rounding): it is
+    // then decided alike for both, so that it stays symmetric.
+    auto mirrorTie = [&](double df, double dg) {
+        return std::abs(df - dg) <= 1e-9 * (df + dg + tl.spacingMm);
+    };
     auto extremeOf = [&](const Vec3& x, const Vec3& n) -> std::pair<Vec3, Vec3> {
         const auto f = onSegment(x, n, a, p);
         if (mMirror == MirrorAxis::None) return f;
         const auto g = onSegment(x, n, am, pm);
         const double df = glm::length(x - f.first), dg = glm::length(x - g.first);
-        if (std::abs(df - dg) <= 1e-9 * (df + dg + tl.spacingMm)) {
+        if (mirrorTie(df, dg)) {
             const Vec3 d = f.second + g.second;
             const double l = glm::length(d);
             return {0.5 * (f.first + g.first), l > 1e-9 ? d / l : n};
@@ -550,7 +555,7 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
             Vec3 centre = a;
             if (mMirror != MirrorAxis::None) {
                 const double df = glm::length(pos - a), dg = glm::length(pos - am);
-                if (std::abs(df - dg) <= 1e-9 * (df + dg + tl.spacingMm)) return std::nullopt;
+                if (mirrorTie(df, dg)) return std::nullopt;
                 if (dg < df) centre = am;
             }
             const Vec3 d = pos - centre;

@@ -10,6 +10,7 @@
 #include <atomic>
 #include <cmath>
 #include <iterator>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <unordered_map>
@@ -174,19 +175,31 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
     }
     const double iso = mSculpture.levels().iso();
     double values[V][V][V];
-    bool anyIn = false, anyOut = false;
+    FieldBounds range{std::numeric_limits<double>::infinity(),
+                      -std::numeric_limits<double>::infinity()};
     for (int i = 0; i < V; ++i)
         for (int j = 0; j < V; ++j)
             for (int k = 0; k < V; ++k) {
                 values[i][j][k] = fixedToField(sums->values[size_t((i * V + j) * V + k)], iso);
-                (values[i][j][k] > 0 ? anyIn : anyOut) = true;
+                range.min = std::min(range.min, values[i][j][k]);
+                range.max = std::max(range.max, values[i][j][k]);
             }
+    if (!range.mayContainSurface()) {
+        // No grid edge of the block crosses the surface, so its mesh is empty whatever f does
+        // between the vertices. Its sums are dropped for the range of its values (kept and
+        // widened as noteWrites does for bounds): most such blocks lie inside piled-up clay,
+        // where loose bounds had them evaluated, and updating their sums at every write that
+        // reaches them was most of a re-mesh there (docs/benchmarks.md). A write that may
+        // bring a sign change has the block evaluated afresh, to the same sums.
+        sums.reset();
+        mNoSurfaceBounds[blockIndex(bx, by, bz)] = range;
+        return false;
+    }
     auto built = [&] {
         sums->meshFromSums = true;
         sums->touched.clear();
         return true;
     };
-    if (!anyIn || !anyOut) return built();
     // Whether a write since the old mesh reached the closed box [lo, hi] (the samples of an
     // edge's root lie in it).
     auto touched = [&](const Vec3& lo, const Vec3& hi) {

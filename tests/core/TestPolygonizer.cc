@@ -382,6 +382,53 @@ TEST(Polygonizer, BlocksKeptEmptyOrSolidAreSkippedUntilAWriteReachesThem) {
     }
 }
 
+// Blocks whose grid values show no sign change keep only the range of those values, not their
+// grid sums: in piled-up clay most blocks its bounds could not cull are such, and updating
+// their sums at every write that reached them was most of a re-mesh. Cancelling weights in the
+// sphere's core loosen the bounds there (each term's own range is added); a later write that
+// reaches only such blocks costs no block update and gathers nothing, and the mesh stays equal
+// to a full rebuild until a write does bring a crossing.
+TEST(Polygonizer, BlocksWithoutACrossingKeepNoSums) {
+    // The sphere fills the region but for its corners: the blocks within a core write's reach
+    // (and the one block noteWrites adds each side) hold no surface.
+    NotedSphere n(emptyConfig(PlacementMode::Swept), 40, 32);
+    Sculpture& s = n.s;
+    Polygonizer& kept = n.kept;
+    const int level = 3;
+    const double h = s.levels().level(level).spacingMm;
+    const double support = s.levels().level(level).supportMm;
+    s.store().set(level, LatticeCoord{0, 0, 0}, 0.4f);
+    s.store().set(level, LatticeCoord{1, 0, 0}, -0.4f);
+    n.note();
+    const PolygonizeStats all = kept.update(n.region.box());
+    ASSERT_EQ(kept.verifyAgainstFullRebuild(), "");
+    // The core's blocks were gathered (their bounds admit a surface) and showed none.
+    const Aabb coreBlock{Vec3(0.0), Vec3(Polygonizer::kBlockCells * n.region.spacingMm)};
+    ASSERT_EQ(n.region.vertexPos(n.region.originCell[0] + n.region.n / 2, 0, 0).x, 0.0);
+    const LocalField coreField(s, coreBlock);
+    ASSERT_TRUE(coreField.bounds().mayContainSurface());
+    EXPECT_GT(all.blocksGathered, 0u);
+
+    s.store().set(level, LatticeCoord{0, 1, 0}, 0.005f);  // changes f by 0.005 at most
+    EXPECT_EQ(kept.noteWrites(n.writes), 0u);
+    n.writes.clear();
+    const Vec3 p = Vec3(0, h, 0);
+    const PolygonizeStats after = kept.update(std::span<const Vec3>(&p, 1), support);
+    EXPECT_GT(after.blocksConsidered, 0u);
+    EXPECT_EQ(after.blocksGathered, 0u);
+    EXPECT_EQ(after.chunksChanged, 0u);
+    EXPECT_EQ(kept.verifyAgainstFullRebuild(), "");
+
+    // A write that does bring the surface into those blocks: evaluated afresh, exact.
+    const Vec3 dipole(0.5 * h, 0, 0);
+    s.store().set(level, LatticeCoord{0, 0, 0}, -3.0f);
+    n.note();
+    const PolygonizeStats carved = kept.update(std::span<const Vec3>(&dipole, 1), support);
+    EXPECT_GT(carved.blocksGathered, 0u);
+    EXPECT_GT(carved.chunksChanged, 0u);
+    EXPECT_EQ(kept.verifyAgainstFullRebuild(), "");
+}
+
 // Swept strokes piled on clay reach weights of 1e7 and field values of 1e8 (measured on the
 // benchmark's model): terms of that size do not fit 64-bit sums at 2^-40, and a wrapped sum
 // made neighbouring blocks disagree about the surface ("a triangle uses an edge its owner did

@@ -261,7 +261,7 @@ void BM_EditLatency(benchmark::State& state) {
     Polygonizer poly(s, st.region, s.config().polygonizer.rootTolerance);
     poly.rebuildAll();
     std::vector<double> first, rest, placeMs, updateMs, publishMs, endMs;
-    size_t evaluations = 0, blocks = 0, chunks = 0, terms = 0;
+    size_t evaluations = 0, blocks = 0, gathered = 0, chunks = 0, terms = 0;
     // The writes of each sample go to the polygonizer as the asynchronous mesher passes them
     // (Polygonizer::noteWrites): its kept grid sums follow the edit.
     std::vector<SkeletonWrite> writes;
@@ -301,6 +301,7 @@ void BM_EditLatency(benchmark::State& state) {
                     publishMs.push_back(msSince(t2, t3));
                     evaluations += ps.evaluations;
                     blocks += ps.blocksConsidered;
+                    gathered += ps.blocksGathered;
                     chunks += ps.chunksChanged;
                 }
                 // The stroke's end: the small changes its samples held back, as the session
@@ -334,6 +335,7 @@ void BM_EditLatency(benchmark::State& state) {
     state.counters["evals_per_sample"] = double(evaluations) / samples;
     state.counters["block_splats_per_sample"] = double(terms) / samples;
     state.counters["blocks_per_sample"] = double(blocks) / samples;
+    state.counters["gathered_per_sample"] = double(gathered) / samples;
     state.counters["bounds_pass"] = boundsPassFraction(s, st, level);
     state.counters["chunks_per_sample"] = double(chunks) / samples;
     const auto [localMean, localMax] = localSkeletonsAlong(s, st);

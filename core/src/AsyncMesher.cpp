@@ -224,11 +224,10 @@ void AsyncMesher::loop() {
             // whole).
             std::optional<GridRegion> newRegion;
             std::vector<const Job*> dirty;
+            std::vector<SkeletonWrite> noted;
             for (const Job& j : jobs) {
                 mReplica->store().apply(j.writes);
-                // Keeps the polygonizer's grid sums current (no grid evaluations to rebuild
-                // the blocks the writes reach); a region change below starts afresh anyway.
-                if (mPoly && !newRegion) mPoly->noteWrites(j.writes);
+                if (!newRegion) noted.insert(noted.end(), j.writes.begin(), j.writes.end());
                 if (j.region) {
                     newRegion = j.region;
                     dirty.clear();
@@ -236,6 +235,10 @@ void AsyncMesher::loop() {
                     dirty.push_back(&j);
                 }
             }
+            // Keeps the polygonizer's grid sums current (no grid evaluations to rebuild the
+            // blocks the writes reach), all the jobs' writes at once so that a skeleton several
+            // samples rewrote is updated once; a region change starts afresh anyway.
+            if (mPoly && !newRegion) mPoly->noteWrites(noted);
             const uint64_t lastEdit = jobs.back().edit;
             if (newRegion) {
                 if (mOptions.preview) {

@@ -101,6 +101,32 @@ const std::array<std::array<TetCase, 16>, 6>& tetrahedronCases() {
     return cases;
 }
 
+/// The net change of each skeleton `writes` touch, one write each (ordered by level and
+/// coordinate): from the first write's `before` to the last one's weight. A swept sample's fit
+/// rewrites the weights around earlier samples again, and the asynchronous mesher notes several
+/// samples' writes at once (about 30 % of two consecutive samples' writes are to the same
+/// skeletons). Kept sums follow the net change to the same bits: their integer terms telescope.
+std::vector<SkeletonWrite> netWrites(std::span<const SkeletonWrite> writes) {
+    std::vector<uint32_t> order(writes.size());
+    for (uint32_t i = 0; i < order.size(); ++i)
+        order[i] = i;
+    auto key = [&](uint32_t i) { return std::pair(writes[i].level, writes[i].coord); };
+    std::stable_sort(order.begin(), order.end(),
+                     [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
+    std::vector<SkeletonWrite> net;
+    net.reserve(writes.size());
+    for (size_t i = 0; i < order.size();) {
+        size_t j = i + 1;
+        while (j < order.size() && key(order[j]) == key(order[i]))
+            ++j;
+        SkeletonWrite w = writes[order[j - 1]];
+        w.before = writes[order[i]].before;
+        net.push_back(w);
+        i = j;
+    }
+    return net;
+}
+
 }  // namespace
 
 const std::array<std::array<int, 4>, 6>& Polygonizer::kuhnTetrahedra() {
@@ -368,7 +394,7 @@ size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
     };
     std::vector<Term> terms;
     std::vector<std::pair<uint32_t, uint32_t>> hits;  // (block, term) pairs with kept sums
-    for (const SkeletonWrite& w : writes) {
+    for (const SkeletonWrite& w : netWrites(writes)) {
         const double before = w.before ? double(*w.before) : 0.0;
         const double after = w.weight ? double(*w.weight) : 0.0;
         if (before == after) continue;

@@ -429,6 +429,43 @@ TEST(Polygonizer, BlocksWithoutACrossingKeepNoSums) {
     EXPECT_EQ(kept.verifyAgainstFullRebuild(), "");
 }
 
+// Writes to the same skeleton noted together (the asynchronous mesher notes several samples at
+// once, and a swept sample's fit rewrites the weights of earlier ones) update each block once,
+// by their net change; the kept sums still equal a fresh evaluation, including a skeleton
+// written and then restored (no net change: no update at all) and one created then removed.
+TEST(Polygonizer, RepeatedWritesToASkeletonAreNotedOnce) {
+    NotedSphere n(emptyConfig(PlacementMode::Swept), 20, 32);
+    Sculpture& s = n.s;
+    Polygonizer& kept = n.kept;
+    const int level = 4;
+    const double h = s.levels().level(level).spacingMm;
+    const LatticeCoord onSurface{int(std::lround(20 / h)), 0, 0};
+    s.store().set(level, onSurface, 0.3f);
+    const size_t once = kept.noteWrites(n.writes);  // a new term into each block reached
+    n.writes.clear();
+    ASSERT_GT(once, 0u);
+
+    s.store().set(level, onSurface, 0.1f);
+    s.store().set(level, onSurface, -0.2f);
+    s.store().set(level, onSurface, 0.25f);
+    ASSERT_EQ(n.writes.size(), 3u);
+    // One net change per block: the old term out, the new one in (three writes: six).
+    EXPECT_EQ(kept.noteWrites(n.writes), 2 * once);
+    n.writes.clear();
+    kept.update(n.region.box());
+    EXPECT_EQ(kept.verifyAgainstFullRebuild(), "");
+
+    const LatticeCoord beside{onSurface.x, 1, 0};
+    s.store().set(level, onSurface, 0.5f);
+    s.store().set(level, onSurface, 0.25f);  // back to where it was
+    s.store().set(level, beside, 0.4f);
+    s.store().erase(level, beside);  // created and gone again
+    EXPECT_EQ(kept.noteWrites(n.writes), 0u);
+    n.writes.clear();
+    kept.update(n.region.box());
+    EXPECT_EQ(kept.verifyAgainstFullRebuild(), "");
+}
+
 // Swept strokes piled on clay reach weights of 1e7 and field values of 1e8 (measured on the
 // benchmark's model): terms of that size do not fit 64-bit sums at 2^-40, and a wrapped sum
 // made neighbouring blocks disagree about the surface ("a triangle uses an edge its owner did

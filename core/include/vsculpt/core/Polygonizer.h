@@ -92,6 +92,7 @@ class Polygonizer {
     /// grid evaluations, whatever the number of skeletons piled up on it. Without this call
     /// (or when the writes do not account for every write the store saw) the kept sums are
     /// dropped at the next rebuild and evaluated afresh: same mesh, more work.
+    /// Writes to the same skeleton count once, as their net change (the sums telescope).
     /// Returns the number of block updates made (one skeleton's term over one block).
     size_t noteWrites(std::span<const SkeletonWrite> writes);
 

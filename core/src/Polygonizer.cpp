@@ -221,11 +221,6 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
         mNoSurfaceBounds[blockIndex(bx, by, bz)] = range;
         return false;
     }
-    auto built = [&] {
-        sums->meshFromSums = true;
-        sums->touched.clear();
-        return true;
-    };
     // Whether a write since the old mesh reached the closed box [lo, hi] (the samples of an
     // edge's root lie in it).
     auto touched = [&](const Vec3& lo, const Vec3& hi) {
@@ -343,7 +338,9 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
             }
     std::sort(out.vertices.begin(), out.vertices.end(),
               [](const EdgeVertex& a, const EdgeVertex& b) { return a.key < b.key; });
-    return built();
+    sums->meshFromSums = true;
+    sums->touched.clear();
+    return true;
 }
 
 bool Polygonizer::blockRange(const Aabb& box, std::array<int, 3>& lo,

@@ -38,7 +38,7 @@ class Sculpture;
 
 struct PolygonizeStats {
     size_t blocksConsidered = 0;  ///< blocks in the rebuilt range
-    size_t blocksCulled = 0;      ///< skipped: no surface can pass through them
+    size_t blocksCulled = 0;      ///< skipped: no surface passes through them or their grid edges
     size_t evaluations = 0;       ///< field evaluations (grid vertices, bisection, gradients)
     size_t blocksGathered = 0;    ///< blocks whose skeletons were gathered (a LocalField each)
     size_t chunksChanged = 0;     ///< chunks whose mesh differs from before
@@ -173,7 +173,8 @@ class Polygonizer {
     static constexpr size_t kMaxTouched = 64;
     mutable std::vector<std::unique_ptr<BlockSums>> mSums;
     // For blocks without sums whose bounds showed that no surface passes through them (empty
-    // or solid): those bounds, widened by every write noteWrites saw reach the block since, so
+    // or solid), or whose grid values showed that none crosses their grid edges: those bounds,
+    // or the values' range, widened by every write noteWrites saw reach the block since, so
     // that a block a write reaches but leaves empty (or solid) is skipped without gathering its
     // skeletons again. Sound bounds stay sound under widening, so what is skipped is exactly
     // what a full rebuild culls or meshes to nothing. kUnknownBounds where not kept; current

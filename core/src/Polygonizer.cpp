@@ -410,21 +410,26 @@ size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
             for (int by = lo[1]; by <= hi[1]; ++by)
                 for (int bz = lo[2]; bz <= hi[2]; ++bz) {
                     const size_t idx = blockIndex(bx, by, bz);
+                    FieldBounds& kept = mNoSurfaceBounds[idx];
+                    if (!mSums[idx] && kept.min > kept.max) continue;
+                    // Nothing to do for a block the write does not reach (a third of the range
+                    // and more: the ball's corners and the range's slack): f there is the same,
+                    // bit for bit (LocalField gathers by the same distance, without the margin).
+                    const Aabb box = blockBox(bx, by, bz, kBlockCells);
+                    const Vec3 nearest = glm::clamp(c, box.min, box.max);
+                    const double d2 = glm::dot(c - nearest, c - nearest);
+                    if (d2 >= t.reach2) continue;
                     if (mSums[idx]) {
                         hits.emplace_back(uint32_t(idx), uint32_t(terms.size()));
                         continue;
                     }
-                    FieldBounds& kept = mNoSurfaceBounds[idx];
-                    if (kept.min > kept.max) continue;
                     // The change's term over the block lies between 0 and delta F at the
                     // block's point nearest the centre (F falls off); widened by
                     // LocalField::bounds' rounding margin for the two terms a write splats
                     // (the old weight out, the new one in). (The far corner's F, as
                     // LocalField::bounds takes it, would be tighter by a little and cost a
                     // second falloff evaluation per block: this loop is serial.)
-                    const Aabb box = blockBox(bx, by, bz, kBlockCells);
-                    const Vec3 nearest = glm::clamp(c, box.min, box.max);
-                    const double change = delta * falloff.value(glm::length(c - nearest) * t.invR);
+                    const double change = delta * falloff.value(std::sqrt(d2) * t.invR);
                     const double margin =
                         1e-9 * (std::abs(before) + std::abs(after)) + 2 / kFixedPerUnit;
                     kept.min += std::min(change, 0.0) - margin;

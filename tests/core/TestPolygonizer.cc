@@ -390,7 +390,7 @@ TEST(Polygonizer, BlocksKeptEmptyOrSolidAreSkippedUntilAWriteReachesThem) {
 // to a full rebuild until a write does bring a crossing.
 TEST(Polygonizer, BlocksWithoutACrossingKeepNoSums) {
     // The sphere fills the region but for its corners: the blocks within a core write's reach
-    // (and the one block noteWrites adds each side) hold no surface.
+    // hold no surface.
     NotedSphere n(emptyConfig(PlacementMode::Swept), 40, 32);
     Sculpture& s = n.s;
     Polygonizer& kept = n.kept;

@@ -159,7 +159,8 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
                         "every edit is journaled");
     playCmd
         ->add_option("--export-spacing", play.exportSpacingMm,
-                     "Grid spacing in mm for exports and statistics (default: zoom 1's)")
+                     "Grid spacing in mm for exports and statistics (default: zoom 1's; an export "
+                     "that loses finer detail says which spacing keeps it)")
         ->check(numberIn(0, 1000, "mm", /*loOpen=*/true));
     playCmd->add_flag("!--no-progress", play.progress, "No progress bar");
     playCmd->add_option("--shot", play.shotPath,

@@ -2,6 +2,7 @@
 #include "vsculpt/app/Play.h"
 
 #include "vsculpt/app/CliChecks.h"
+#include "vsculpt/app/ExportDetail.h"
 #include "vsculpt/app/Log.h"
 #include "vsculpt/app/ProgressBar.h"
 #include "vsculpt/app/Rig.h"
@@ -52,45 +53,6 @@ double percentile(std::vector<double> v, double q) {
     if (v.empty()) return 0;
     std::sort(v.begin(), v.end());
     return v[std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5))];
-}
-
-/// When an export at `spacing` cannot hold the sculpture's finest detail: a line saying so
-/// and which --export-spacing would keep it, else empty. The finest detail is the smallest
-/// tool size among the strokes that built it (a sketched solid's: its finest skeleton level),
-/// drawn from the coarsest zoom that offers that size; the suggestion is that zoom's spacing,
-/// or the finest the whole-sculpture grid allows (1 024 cells per axis).
-std::string exportDetailWarning(const Session& session, double spacing) {
-    int finest = kLevelCount + 1;
-    for (const StrokeRecord& r : session.history().done()) {
-        if (!r.solid)
-            finest = std::min(finest, r.level);
-        else
-            for (const SkeletonChange& c : r.changes)
-                finest = std::min(finest, c.level);
-    }
-    const SculptConfig& cfg = session.sculpture().config();
-    int zoom = 0;
-    for (int z = 1; z <= kZoomLevels && finest <= kLevelCount && zoom == 0; ++z)
-        if (toolAllowedAtZoom(cfg, z, finest)) zoom = z;
-    if (zoom == 0) return {};
-    const double detail = zoomSpacing(cfg, session.sculpture().levels(), zoom);
-    if (spacing <= detail * (1 + 1e-9)) return {};
-    const Aabb bounds = session.sculpture().supportBounds();
-    double extent = 0;
-    for (int a = 0; a < 3; ++a)
-        extent = std::max(extent, bounds.max[a] - bounds.min[a]);
-    // Session::wholeMesh's cell count (extent / spacing + 3) within 1 024.
-    const double suggest = std::max(detail, extent / 1000);
-    if (spacing <= suggest * (1 + 1e-9)) return {};
-    char text[320];
-    std::snprintf(
-        text, sizeof text,
-        "the export's grid spacing, %.3g mm, is coarser than the sculpture's finest "
-        "detail (size %d, drawn at zoom %d at %.3g mm), which it loses: "
-        "--export-spacing %.3g keeps %s",
-        spacing, finest, zoom, detail, std::ceil(suggest * 100) / 100,
-        suggest > detail ? "as much of it as the grid's 1024 cells per axis allow" : "it");
-    return text;
 }
 
 nlohmann::json statsJson(const Studio& studio, const Mesh& mesh, const PlayOptions& o,

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/app/Rig.h"
 
+#include "vsculpt/app/ExportDetail.h"
 #include "vsculpt/core/ExportMesh.h"
 #include "vsculpt/core/Project.h"
 #include "vsculpt/core/WriteFileAtomically.h"
@@ -379,8 +380,12 @@ std::string Rig::exportTo(const std::filesystem::path& path, const core::ExportO
     eo.voxelSizeMm = spacing;
     if (!path.parent_path().empty()) std::filesystem::create_directories(path.parent_path());
     core::exportMesh(mesh, path, eo);
-    return "exported " + path.string() + " (" + std::to_string(mesh.triangleCount()) +
-           " triangles)";
+    std::string said =
+        "exported " + path.string() + " (" + std::to_string(mesh.triangleCount()) + " triangles)";
+    // The window has no spacing to choose: it says what the export lost, for play to redo.
+    if (const std::string lost = exportDetailWarning(s, spacing); !lost.empty())
+        said += "; " + lost;
+    return said;
 }
 
 }  // namespace vsculpt::app

@@ -8,10 +8,8 @@
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/core/ExportDxf.h"
 #include "vsculpt/core/ExportMesh.h"
-#include "vsculpt/core/History.h"
 #include "vsculpt/core/Project.h"
 #include "vsculpt/core/WriteFileAtomically.h"
-#include "vsculpt/core/Zoom.h"
 #include "vsculpt/devices/Recording.h"
 #include "vsculpt/render/Shot.h"
 
@@ -20,7 +18,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <memory>

@@ -35,21 +35,25 @@ std::string exportDetailWarning(const Session& session, double spacing) {
     double extent = 0;
     for (int a = 0; a < 3; ++a)
         extent = std::max(extent, bounds.max[a] - bounds.min[a]);
-    // Session::wholeMesh's cell count (extent / spacing + 3) within 1 024.
-    const bool capped = extent / 1000 > detail;
+    // The finest spacing Session::wholeMesh takes: its grid adds a cell or two each side and
+    // rounds its size up to a multiple of 16, so 24 cells are left for those.
+    const double finestFit = extent / (Session::kWholeMeshMaxCells - 24);
+    const bool capped = finestFit > detail;
     // Three significant digits, rounded so that the printed spacing does what the sentence
     // says: down to keep the detail, up to fit the grid.
-    const double unit = std::pow(10.0, std::floor(std::log10(capped ? extent / 1000 : detail)) - 2);
+    const double unit = std::pow(10.0, std::floor(std::log10(capped ? finestFit : detail)) - 2);
     const double suggest =
-        capped ? std::ceil(extent / 1000 / unit) * unit : std::floor(detail / unit) * unit;
+        capped ? std::ceil(finestFit / unit) * unit : std::floor(detail / unit) * unit;
     if (spacing <= suggest * (1 + 1e-9)) return {};
+    char capNote[80];
+    std::snprintf(capNote, sizeof capNote, "as much of it as the grid's %d cells per axis allow",
+                  Session::kWholeMeshMaxCells);
     char text[320];
     std::snprintf(text, sizeof text,
                   "the export's grid spacing, %.3g mm, is coarser than the sculpture's finest "
                   "detail (size %d, drawn at zoom %d at %.3g mm), which it loses: "
                   "--export-spacing %.3g keeps %s",
-                  spacing, finest, zoom, detail, suggest,
-                  capped ? "as much of it as the grid's 1024 cells per axis allow" : "it");
+                  spacing, finest, zoom, detail, suggest, capped ? capNote : "it");
     return text;
 }
 

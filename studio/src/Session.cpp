@@ -511,12 +511,12 @@ Mesh Session::wholeMesh(double spacing) const {
     for (int a = 0; a < 3; ++a)
         cells = std::max(
             cells, std::ceil(bounds.max[a] / spacing) - std::floor(bounds.min[a] / spacing) + 2);
-    if (!(cells <= 1024)) {
+    if (!(cells <= kWholeMeshMaxCells)) {
         char text[160];
         std::snprintf(text, sizeof text,
-                      "the sculpture spans %.3g cells at %.3g mm; at most 1024 per axis: "
+                      "the sculpture spans %.3g cells at %.3g mm; at most %d per axis: "
                       "choose a coarser spacing",
-                      cells, spacing);
+                      cells, spacing, kWholeMeshMaxCells);
         throw SessionError(text);
     }
     GridRegion r;
@@ -528,10 +528,11 @@ Mesh Session::wholeMesh(double spacing) const {
             std::max(extent, int64_t(std::ceil(bounds.max[a] / spacing)) + 1 - r.originCell[a]);
     }
     const int64_t n = (extent + 15) / 16 * 16;
-    if (n > 1024)
+    if (n > kWholeMeshMaxCells)
         throw SessionError("the sculpture spans " + std::to_string(extent) + " cells at " +
-                           std::to_string(spacing) +
-                           " mm; at most 1024 per axis: choose a coarser spacing");
+                           std::to_string(spacing) + " mm; at most " +
+                           std::to_string(kWholeMeshMaxCells) +
+                           " per axis: choose a coarser spacing");
     r.n = int(n);
     Polygonizer poly(*mSculpture, r, mConfig.polygonizer.rootTolerance);
     poly.rebuildAll();

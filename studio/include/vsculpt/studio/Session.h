@@ -170,9 +170,11 @@ class Session {
     /// number of the last one. 0 without a project.
     uint64_t editSequence() const { return mSequence; }
 
+    /// The most cells per axis wholeMesh's grid may have.
+    static constexpr int kWholeMeshMaxCells = 1024;
     /// The whole sculpture polygonized at `spacingMm` (0: the zoom-1 spacing), for exports
     /// and statistics. Throws SessionError for a spacing that is not finite and positive, or
-    /// when the grid would exceed 1024 cells per axis.
+    /// when the grid would exceed kWholeMeshMaxCells per axis.
     core::Mesh wholeMesh(double spacingMm = 0) const;
 
   private:

@@ -166,39 +166,20 @@ Aabb Polygonizer::blockBox(int bx, int by, int bz, int cells) const {
     return Aabb{mRegion.vertexPos(x, y, z), mRegion.vertexPos(x + cells, y + cells, z + cells)};
 }
 
-bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& evals,
+bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out,
+                             std::unique_ptr<LocalField>& field, size_t& evals,
                              size_t& gathered) const {
     out.vertices.clear();
     out.triangles.clear();
     const Aabb box = blockBox(bx, by, bz, kBlockCells);
-    std::optional<LocalField> field;  // gathered only where it is needed
     constexpr int V = kBlockCells + 1;
     const int64_t gx0 = mRegion.originCell[0] + int64_t(bx) * kBlockCells;
     const int64_t gy0 = mRegion.originCell[1] + int64_t(by) * kBlockCells;
     const int64_t gz0 = mRegion.originCell[2] + int64_t(bz) * kBlockCells;
     std::unique_ptr<BlockSums>& sums = mSums[blockIndex(bx, by, bz)];
+    if (!sums) throw std::logic_error("Polygonizer::buildBlock: the block has no grid sums");
     // The roots of edges no write reached since the last build can be kept (BlockSums).
-    const BlockMesh* old = sums && sums->meshFromSums ? &mBlocks[blockIndex(bx, by, bz)] : nullptr;
-    if (!sums) {
-        FieldBounds& kept = mNoSurfaceBounds[blockIndex(bx, by, bz)];
-        if (kept.min <= kept.max && !kept.mayContainSurface()) return false;
-        field.emplace(mSculpture, box);
-        ++gathered;
-        const FieldBounds bounds = field->bounds();
-        if (!bounds.mayContainSurface()) {
-            kept = bounds;
-            return false;
-        }
-        kept = kUnknownBounds;
-        // Each skeleton splatted onto the vertices it reaches (not every skeleton visited at
-        // every vertex: piled-up clay has many small skeletons per block), in fixed point so
-        // that noteWrites can keep the sums exact afterwards.
-        double xs[V], ys[V], zs[V];
-        blockAxes(bx, by, bz, xs, ys, zs);
-        sums = std::make_unique<BlockSums>();
-        field->gridSums(xs, ys, zs, sums->values.data());
-        evals += V * V * V;
-    }
+    const BlockMesh* old = sums->meshFromSums ? &mBlocks[blockIndex(bx, by, bz)] : nullptr;
     const double iso = mSculpture.levels().iso();
     double values[V][V][V];
     FieldBounds range{std::numeric_limits<double>::infinity(),
@@ -263,7 +244,7 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& eva
             }
         }
         if (!field) {
-            field.emplace(mSculpture, box);
+            field = std::make_unique<LocalField>(mSculpture, box);
             ++gathered;
         }
         double flo = values[ai][aj][ak], fhi = values[bi][bj][bk];
@@ -499,6 +480,128 @@ void Polygonizer::mergeBlocks(BlockList& into, BlockList more) {
     into = std::move(out);
 }
 
+void Polygonizer::evaluateMissingSums(const BlockList& blocks, std::vector<char>& culled,
+                                      std::vector<char>& finished,
+                                      std::vector<std::unique_ptr<LocalField>>& fields,
+                                      bool threaded, const std::atomic<bool>* cancel,
+                                      PolygonizeStats& stats) const {
+    constexpr int B = kBlockCells, V = kBlockCells + 1;
+    auto forEach = [&](auto&& body) {
+        if (threaded)
+            parallelFor(mWorkers, blocks.size(), 2, [&](size_t i0, size_t i1) {
+                for (size_t i = i0; i < i1; ++i)
+                    body(i);
+            });
+        else
+            for (size_t i = 0; i < blocks.size(); ++i)
+                body(i);
+    };
+    tbb::combinable<size_t> evals([] { return size_t(0); });
+    tbb::combinable<size_t> gathers([] { return size_t(0); });
+    std::vector<char> fresh(blocks.size(), 0);
+    // 1. Which blocks need their sums: gathered, and their bounds tested.
+    forEach([&](size_t i) {
+        if (culled[i]) return;
+        if (cancel && cancel->load(std::memory_order_relaxed)) {
+            finished[i] = 0;
+            return;
+        }
+        const auto& b = blocks[i];
+        const size_t idx = blockIndex(b[0], b[1], b[2]);
+        if (mSums[idx]) return;
+        FieldBounds& kept = mNoSurfaceBounds[idx];
+        if (kept.min <= kept.max && !kept.mayContainSurface()) {
+            culled[i] = 1;
+            return;
+        }
+        auto field = std::make_unique<LocalField>(mSculpture, blockBox(b[0], b[1], b[2], B));
+        ++gathers.local();
+        const FieldBounds bounds = field->bounds();
+        if (!bounds.mayContainSurface()) {
+            kept = bounds;
+            culled[i] = 1;
+            return;
+        }
+        kept = kUnknownBounds;
+        mSums[idx] = std::make_unique<BlockSums>();
+        fields[i] = std::move(field);
+        fresh[i] = 1;
+    });
+    stats.blocksGathered += gathers.combine(std::plus<size_t>());
+    if (cancel && cancel->load(std::memory_order_relaxed)) {
+        // Half-made sums are dropped; those blocks are left stale, as the cancel asks.
+        for (size_t i = 0; i < blocks.size(); ++i)
+            if (fresh[i]) {
+                mSums[blockIndex(blocks[i][0], blocks[i][1], blocks[i][2])].reset();
+                fields[i].reset();
+                finished[i] = 0;
+            }
+        return;
+    }
+    // 2. Each skeleton splatted onto the vertices it reaches (not every skeleton visited at
+    // every vertex: piled-up clay has many small skeletons per block), in fixed point so that
+    // noteWrites can keep the sums exact afterwards. A block skips its far face on an axis
+    // where the next block has sums (kept, or made here): the vertices there are shared and
+    // taken from it in step 3. Sums of integer terms do not depend on which block adds them
+    // up: both blocks gather every skeleton that reaches a vertex on their common face (the
+    // face is in both closed boxes) and compute its term from the same coordinates.
+    auto ownExtent = [&](const std::array<int, 3>& b, int axis) {
+        std::array<int, 3> n = b;
+        ++n[size_t(axis)];
+        return hasSums(n[0], n[1], n[2]) ? B : V;  // vertices evaluated along `axis`
+    };
+    forEach([&](size_t i) {
+        if (!fresh[i]) return;
+        const auto& b = blocks[i];
+        const int ex = ownExtent(b, 0), ey = ownExtent(b, 1), ez = ownExtent(b, 2);
+        double xs[V], ys[V], zs[V];
+        blockAxes(b[0], b[1], b[2], xs, ys, zs);
+        FixedSum part[V * V * V];
+        fields[i]->gridSums(std::span(xs, size_t(ex)), std::span(ys, size_t(ey)),
+                            std::span(zs, size_t(ez)), part);
+        auto& values = mSums[blockIndex(b[0], b[1], b[2])]->values;
+        for (int x = 0; x < ex; ++x)
+            for (int y = 0; y < ey; ++y)
+                for (int z = 0; z < ez; ++z)
+                    values[size_t((x * V + y) * V + z)] = part[(x * ey + y) * ez + z];
+        evals.local() += size_t(ex * ey * ez);
+    });
+    stats.gridValues = evals.combine(std::plus<size_t>());
+    stats.evaluations += stats.gridValues;
+    // 3. The shared vertices a block skipped, from the block that has them: step from the block
+    // to the next one along any axis where the vertex is on the far face and the next block has
+    // sums, until no such step is left. That block has sums, and for every axis where the vertex
+    // is still on its far face the block after it has none, so if it was evaluated in step 2
+    // it did not skip the vertex. Step 2 has finished, so every such value is there.
+    forEach([&](size_t i) {
+        if (!fresh[i]) return;
+        const auto& b = blocks[i];
+        const int ex = ownExtent(b, 0), ey = ownExtent(b, 1), ez = ownExtent(b, 2);
+        auto& values = mSums[blockIndex(b[0], b[1], b[2])]->values;
+        for (int x = 0; x < V; ++x)
+            for (int y = 0; y < V; ++y)
+                for (int z = 0; z < V; ++z) {
+                    if (x < ex && y < ey && z < ez) continue;
+                    std::array<int, 3> at = b, local{x, y, z};
+                    for (bool stepped = true; stepped;) {
+                        stepped = false;
+                        for (size_t a = 0; a < 3; ++a) {
+                            if (local[a] != B) continue;
+                            std::array<int, 3> n = at;
+                            ++n[a];
+                            if (!hasSums(n[0], n[1], n[2])) continue;
+                            at = n;
+                            local[a] = 0;
+                            stepped = true;
+                        }
+                    }
+                    values[size_t((x * V + y) * V + z)] =
+                        mSums[blockIndex(at[0], at[1], at[2])]
+                            ->values[size_t((local[0] * V + local[1]) * V + local[2])];
+                }
+    });
+}
+
 PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& blocks, bool threaded,
                                      bool cullChunksFirst, const std::atomic<bool>* cancel) {
     // Kept sums are current only if every write since they were made was noted.
@@ -536,11 +639,13 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
     std::vector<char> changed(blocks.size(), 0);
     // 1: rebuilt; 0: skipped after a cancel (still stale).
     std::vector<char> finished(blocks.size(), 1);
+    std::vector<std::unique_ptr<LocalField>> fields(blocks.size());
+    evaluateMissingSums(blocks, culled, finished, fields, threaded, cancel, stats);
     tbb::combinable<size_t> evals([] { return size_t(0); });
     tbb::combinable<size_t> gathered([] { return size_t(0); });
     auto work = [&](size_t i) {
         const auto& b = blocks[i];
-        if (cancel && cancel->load(std::memory_order_relaxed)) {
+        if (!finished[i] || (cancel && cancel->load(std::memory_order_relaxed))) {
             finished[i] = 0;
             return;
         }
@@ -549,8 +654,10 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
         thread_local BlockMesh fresh;
         fresh.vertices.clear();
         fresh.triangles.clear();
-        if (!culled[i] && !buildBlock(b[0], b[1], b[2], fresh, evals.local(), gathered.local()))
+        if (!culled[i] &&
+            !buildBlock(b[0], b[1], b[2], fresh, fields[i], evals.local(), gathered.local()))
             culled[i] = 1;
+        fields[i].reset();
         BlockMesh& slot = mBlocks[blockIndex(b[0], b[1], b[2])];
         // Which neighbouring blocks see a difference: bit s (0..7) set when the blocks at
         // offset -s (bit 0 = x, 1 = y, 2 = z) use something that changed. Bit 0: this block.
@@ -597,8 +704,8 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
         for (size_t i = 0; i < blocks.size(); ++i)
             work(i);
 
-    stats.evaluations = evals.combine(std::plus<size_t>());
-    stats.blocksGathered = gathered.combine(std::plus<size_t>());
+    stats.evaluations += evals.combine(std::plus<size_t>());
+    stats.blocksGathered += gathered.combine(std::plus<size_t>());
     const int c = chunksPerAxis(), per = kChunkCells / kBlockCells;
     std::vector<char> chunkChanged(mChunkVersions.size(), 0);
     for (size_t i = 0; i < blocks.size(); ++i) {

@@ -429,6 +429,76 @@ TEST(Polygonizer, BlocksWithoutACrossingKeepNoSums) {
     EXPECT_EQ(kept.verifyAgainstFullRebuild(), "");
 }
 
+// A grid vertex on the faces between blocks is splatted once per rebuild, by one of the blocks
+// that share it, or taken from a neighbour whose sums are kept (and follow the writes): the mesh
+// is the same as when each block evaluated all of its vertices itself.
+TEST(Polygonizer, GridVerticesBlocksShareAreEvaluatedOnce) {
+    Sculpture s(emptyConfig(PlacementMode::Free));
+    const int level = 3;
+    const double h = s.levels().level(level).spacingMm;
+    // Slabs of skeletons of alternating sign across x: every block's bounds admit a surface,
+    // and the surface (planes between the slabs) crosses every block.
+    for (int x = -6; x <= 6; ++x)
+        for (int y = -6; y <= 6; ++y)
+            for (int z = -6; z <= 6; ++z)
+                s.store().set(level, LatticeCoord{x, y, z}, (x % 2 != 0) ? -1.0f : 1.0f);
+    constexpr int n = 16, V = n + 1, B = Polygonizer::kBlockCells;
+    const GridRegion region = regionAround(Vec3(0.3, -0.2, 0.1), 0.45 * h, n);
+    const double tol = s.config().polygonizer.rootTolerance;
+
+    Polygonizer all(s, region, tol);
+    const PolygonizeStats full = all.rebuildAll();
+    constexpr int blocksPerAxis = n / B;
+    ASSERT_EQ(full.blocksConsidered, size_t(blocksPerAxis * blocksPerAxis * blocksPerAxis));
+    ASSERT_EQ(full.blocksCulled, 0u);               // every block was evaluated and holds surface
+    EXPECT_EQ(full.gridValues, size_t(V * V * V));  // not 64 * 125 = 8000
+    EXPECT_EQ(all.verifyAgainstFullRebuild(), "");
+
+    // The high-x half first; then the rest, whose far x faces at the middle come from the
+    // kept sums of the first half, after a write that the kept sums followed.
+    std::vector<SkeletonWrite> writes;
+    s.store().logWritesTo(&writes);
+    Polygonizer halves(s, region, tol);
+    Polygonizer::BlockList high, rest;
+    for (int x = 0; x < blocksPerAxis; ++x)
+        for (int y = 0; y < blocksPerAxis; ++y)
+            for (int z = 0; z < blocksPerAxis; ++z)
+                (x >= blocksPerAxis / 2 ? high : rest).push_back({x, y, z});
+    const PolygonizeStats first = halves.rebuildBlocks(high);
+    EXPECT_EQ(first.gridValues, size_t((V / 2 + 1) * V * V));
+    s.store().set(level, LatticeCoord{0, 1, 0}, 0.5f);  // reaches the middle face
+    halves.noteWrites(writes);
+    writes.clear();
+    const PolygonizeStats second = halves.rebuildBlocks(rest);
+    EXPECT_EQ(second.gridValues, size_t((V / 2) * V * V));  // the middle layer is taken
+    // Not yet consistent: the write reached the high half too; rebuilt, it equals a full
+    // rebuild (which evaluates every vertex in one pass).
+    halves.rebuildBlocks(high);
+    EXPECT_EQ(halves.verifyAgainstFullRebuild(), "");
+
+    // Kept sums in a scattered pattern (a vertex may be taken from a block two or three steps
+    // away, diagonally), then the rest evaluated around them.
+    std::mt19937 rng(5);
+    for (int trial = 0; trial < 4; ++trial) {
+        Polygonizer scattered(s, region, tol);
+        Polygonizer::BlockList some;
+        for (const auto& b : high)
+            if (rng() % 2) some.push_back(b);
+        for (const auto& b : rest)
+            if (rng() % 2) some.push_back(b);
+        std::sort(some.begin(), some.end());
+        scattered.rebuildBlocks(some);
+        s.store().set(level, LatticeCoord{int(rng() % 5) - 2, int(rng() % 5) - 2, 0},
+                      float(rng() % 3) - 1.0f);
+        scattered.noteWrites(writes);
+        writes.clear();
+        const PolygonizeStats after = scattered.rebuildAll();
+        EXPECT_LT(after.gridValues, size_t(V * V * V));
+        EXPECT_EQ(scattered.verifyAgainstFullRebuild(), "") << "trial " << trial;
+    }
+    s.store().logWritesTo(nullptr);
+}
+
 // Writes to the same skeleton noted together (the asynchronous mesher notes several samples at
 // once, and a swept sample's fit rewrites the weights of earlier ones) update each block once,
 // by their net change; the kept sums still equal a fresh evaluation, including a skeleton

@@ -40,6 +40,7 @@ struct PolygonizeStats {
     size_t blocksConsidered = 0;  ///< blocks in the rebuilt range
     size_t blocksCulled = 0;      ///< skipped: no surface passes through them or their grid edges
     size_t evaluations = 0;       ///< field evaluations (grid vertices, bisection, gradients)
+    size_t gridValues = 0;        ///< of those, grid vertices (a vertex blocks share counts once)
     size_t blocksGathered = 0;    ///< blocks whose skeletons were gathered (a LocalField each)
     size_t chunksChanged = 0;     ///< chunks whose mesh differs from before
     std::vector<std::array<int, 3>> changedChunks;  ///< their indices, for re-upload
@@ -143,10 +144,27 @@ class Polygonizer {
         return (size_t(bx) * mBlocksPerAxis + by) * mBlocksPerAxis + bz;
     }
     Aabb blockBox(int bx, int by, int bz, int cells) const;
-    /// Returns false when the block was culled (no surface can pass through it).
-    /// `evaluations` and `gathered` (blocks whose skeletons it gathered) are added to.
-    bool buildBlock(int bx, int by, int bz, BlockMesh& out, size_t& evaluations,
-                    size_t& gathered) const;
+    /// Meshes one block from its grid sums, which it must have (rebuild evaluates missing
+    /// ones first). Returns false when no grid edge of the block crosses the surface.
+    /// `field`: the block's skeletons if gathered already, else gathered here when a root
+    /// needs them. `evaluations` and `gathered` (blocks whose skeletons it gathered) are
+    /// added to.
+    bool buildBlock(int bx, int by, int bz, BlockMesh& out, std::unique_ptr<LocalField>& field,
+                    size_t& evaluations, size_t& gathered) const;
+    /// Rebuild's first step: grid sums for the blocks of `blocks` that have none and
+    /// whose bounds may hold surface; the others are marked in `culled`. A grid vertex that
+    /// several blocks share is splatted once (by one of them, or taken from a block whose sums
+    /// are kept). `fields` gets each evaluated block's skeletons, for its roots. Blocks that
+    /// `cancel` stopped are cleared in `finished`. Counts go to `stats`.
+    void evaluateMissingSums(const BlockList& blocks, std::vector<char>& culled,
+                             std::vector<char>& finished,
+                             std::vector<std::unique_ptr<LocalField>>& fields, bool threaded,
+                             const std::atomic<bool>* cancel, PolygonizeStats& stats) const;
+    /// Whether block (bx, by, bz) lies in the region and has grid sums.
+    bool hasSums(int bx, int by, int bz) const {
+        return bx < mBlocksPerAxis && by < mBlocksPerAxis && bz < mBlocksPerAxis &&
+               mSums[blockIndex(bx, by, bz)] != nullptr;
+    }
     PolygonizeStats rebuild(const std::vector<std::array<int, 3>>& blocks, bool threaded,
                             bool cullChunksFirst, const std::atomic<bool>* cancel = nullptr);
 

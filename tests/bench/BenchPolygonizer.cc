@@ -67,6 +67,7 @@ void BM_FullPolygonize(benchmark::State& state) {
     state.counters["N"] = region.n;
     state.counters["triangles"] = double(triangles);
     state.counters["evaluations"] = double(stats.evaluations);
+    state.counters["grid_values"] = double(stats.gridValues);
     state.counters["skeletons"] = double(s.counts().total());
     state.counters["blocks_meshed"] = double(stats.blocksConsidered - stats.blocksCulled);
 }
@@ -121,8 +122,11 @@ BENCHMARK(BM_FieldAtPolygonizerBlocks)->Unit(benchmark::kMillisecond);
 /// volumeToMesh. The same pre-cull as Polygonizer::rebuildAll: one bounds test per chunk,
 /// then per block in the chunks that may hold surface; only blocks the surface may cross
 /// are sampled (chunks and blocks proven inside are filled as inside, which the dual
-/// method needs for the sign). The per-block sample buffer is allocated once, outside the
-/// timed loop (it used to be 17 MB allocated and zeroed in every iteration).
+/// method needs for the sign). Sampled as the polygonizer samples its blocks: each skeleton
+/// splatted onto the vertices it reaches, and a vertex that sampled blocks share sampled once
+/// (a block leaves its far face on an axis to the next block when that one is sampled too),
+/// so both sides pay the same per grid value. The per-block sample buffer is allocated once,
+/// outside the timed loop (it used to be 17 MB allocated and zeroed in every iteration).
 void BM_FullPolygonizeOpenVDB(benchmark::State& state) {
     openvdb::initialize();
     Sculpture& s = sculptedModel();
@@ -130,16 +134,20 @@ void BM_FullPolygonizeOpenVDB(benchmark::State& state) {
     constexpr int B = Polygonizer::kBlockCells, per = Polygonizer::kChunkCells / B;
     const int nb = region.n / B, nc = region.n / Polygonizer::kChunkCells;
     struct Block {
-        explicit Block(const std::array<int64_t, 3>& at) : g(at) {}  // v left unset, not zeroed
+        Block(const std::array<int, 3>& at, const std::array<int64_t, 3>& g) : b(at), g(g) {}
+        std::array<int, 3> b;  // block index
         std::array<int64_t, 3> g;
-        int state = 0;  // 0 outside, 1 inside, 2 sampled
-        std::array<float, 125> v;
+        int state = 0;                // 0 outside, 1 inside, 2 sampled
+        std::array<int, 3> extent{};  // vertices sampled per axis (4 or 5)
+        std::unique_ptr<LocalField> field;
+        std::array<float, 125> v;  // left unset, not zeroed
     };
     std::vector<int> chunkState(size_t(nc) * nc * nc);  // 0 outside, 1 inside, 2 may cross
     std::vector<Block> blocks;
     blocks.reserve(size_t(nb) * nb * nb);
+    std::vector<int> blockAt(size_t(nb) * nb * nb, -1);  // index into blocks
     double cullMs = 0, sampleMs = 0, meshMs = 0;
-    size_t polygons = 0, sampled = 0;
+    size_t polygons = 0, sampled = 0, values = 0;
     auto boxAt = [&](int64_t gx, int64_t gy, int64_t gz, int cells) {
         const Vec3 lo = region.vertexPos(gx, gy, gz);
         return Aabb{lo, lo + Vec3(cells * region.spacingMm)};
@@ -155,13 +163,16 @@ void BM_FullPolygonizeOpenVDB(benchmark::State& state) {
             chunkState[i] = fb.mayContainSurface() ? 2 : fb.min > 0 ? 1 : 0;
         });
         blocks.clear();
+        std::fill(blockAt.begin(), blockAt.end(), -1);
         for (size_t i = 0; i < chunkState.size(); ++i) {
             if (chunkState[i] != 2) continue;
             const int x = int(i / (size_t(nc) * nc)), y = int(i / nc % nc), z = int(i % nc);
             for (int bx = x * per; bx < (x + 1) * per; ++bx)
                 for (int by = y * per; by < (y + 1) * per; ++by)
                     for (int bz = z * per; bz < (z + 1) * per; ++bz) {
-                        blocks.emplace_back(std::array<int64_t, 3>{region.originCell[0] + B * bx,
+                        blockAt[(size_t(bx) * nb + by) * nb + bz] = int(blocks.size());
+                        blocks.emplace_back(std::array<int, 3>{bx, by, bz},
+                                            std::array<int64_t, 3>{region.originCell[0] + B * bx,
                                                                    region.originCell[1] + B * by,
                                                                    region.originCell[2] + B * bz});
                     }
@@ -169,15 +180,24 @@ void BM_FullPolygonizeOpenVDB(benchmark::State& state) {
         const auto t1 = std::chrono::steady_clock::now();
         tbb::parallel_for(size_t(0), blocks.size(), [&](size_t i) {
             Block& b = blocks[i];
-            const LocalField f(s, boxAt(b.g[0], b.g[1], b.g[2], B));
-            const FieldBounds fb = f.bounds();
-            if (!fb.mayContainSurface()) {
-                b.state = fb.min > 0 ? 1 : 0;
-                return;
+            b.field = std::make_unique<LocalField>(s, boxAt(b.g[0], b.g[1], b.g[2], B));
+            const FieldBounds fb = b.field->bounds();
+            b.state = fb.mayContainSurface() ? 2 : fb.min > 0 ? 1 : 0;
+            if (b.state != 2) b.field.reset();
+        });
+        auto sampledAt = [&](std::array<int, 3> n) {
+            if (n[0] >= nb || n[1] >= nb || n[2] >= nb) return false;
+            const int k = blockAt[(size_t(n[0]) * nb + n[1]) * nb + n[2]];
+            return k >= 0 && blocks[size_t(k)].state == 2;
+        };
+        tbb::parallel_for(size_t(0), blocks.size(), [&](size_t i) {
+            Block& b = blocks[i];
+            if (b.state != 2) return;
+            for (size_t a = 0; a < 3; ++a) {
+                std::array<int, 3> n = b.b;
+                ++n[a];
+                b.extent[a] = sampledAt(n) ? B : B + 1;
             }
-            b.state = 2;
-            // Sampled as the polygonizer samples its blocks (each skeleton splatted onto the
-            // vertices it reaches), so both sides pay the same per grid value.
             double xs[5], ys[5], zs[5], v[125];
             for (int q = 0; q < 5; ++q) {
                 const Vec3 p = region.vertexPos(b.g[0] + q, b.g[1] + q, b.g[2] + q);
@@ -185,11 +205,15 @@ void BM_FullPolygonizeOpenVDB(benchmark::State& state) {
                 ys[q] = p.y;
                 zs[q] = p.z;
             }
-            f.gridValues(xs, ys, zs, v);
-            for (int n = 0; n < 125; ++n)  // OpenVDB level sets are negative inside
-                b.v[size_t(n)] = float(-v[n]);
+            b.field->gridValues(std::span(xs, size_t(b.extent[0])),
+                                std::span(ys, size_t(b.extent[1])),
+                                std::span(zs, size_t(b.extent[2])), v);
+            for (int n = 0; n < b.extent[0] * b.extent[1] * b.extent[2]; ++n)
+                b.v[size_t(n)] = float(-v[n]);  // OpenVDB level sets are negative inside
+            b.field.reset();
         });
-        // Serial insertion (grids are not thread-safe).
+        // Serial insertion (grids are not thread-safe): the inside fills first, so that they
+        // do not overwrite the faces of sampled blocks next to them.
         openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(float(s.levels().iso()));
         grid->setTransform(openvdb::math::Transform::createLinearTransform(region.spacingMm));
         for (size_t i = 0; i < chunkState.size(); ++i) {
@@ -200,21 +224,23 @@ void BM_FullPolygonizeOpenVDB(benchmark::State& state) {
                                     int(region.originCell[2] + 8 * z));
             grid->tree().fill(openvdb::CoordBBox(lo, lo.offsetBy(8)), -1.0f, false);
         }
-        auto acc = grid->getAccessor();
-        sampled = 0;
-        for (const Block& b : blocks) {
-            if (b.state == 0) continue;
-            const openvdb::Coord lo(int(b.g[0]), int(b.g[1]), int(b.g[2]));
+        for (const Block& b : blocks)
             if (b.state == 1) {
+                const openvdb::Coord lo(int(b.g[0]), int(b.g[1]), int(b.g[2]));
                 grid->tree().fill(openvdb::CoordBBox(lo, lo.offsetBy(4)), -1.0f, false);
-                continue;
             }
+        auto acc = grid->getAccessor();
+        sampled = values = 0;
+        for (const Block& b : blocks) {
+            if (b.state != 2) continue;
             ++sampled;
+            const openvdb::Coord lo(int(b.g[0]), int(b.g[1]), int(b.g[2]));
             int n = 0;
-            for (int i = 0; i < 5; ++i)
-                for (int j = 0; j < 5; ++j)
-                    for (int k = 0; k < 5; ++k)
+            for (int i = 0; i < b.extent[0]; ++i)
+                for (int j = 0; j < b.extent[1]; ++j)
+                    for (int k = 0; k < b.extent[2]; ++k)
                         acc.setValueOn(lo.offsetBy(i, j, k), b.v[size_t(n++)]);
+            values += size_t(n);
         }
         const auto t2 = std::chrono::steady_clock::now();
         std::vector<openvdb::Vec3s> points;
@@ -232,6 +258,7 @@ void BM_FullPolygonizeOpenVDB(benchmark::State& state) {
     state.counters["mesh_ms"] = meshMs / double(state.iterations());
     state.counters["triangles"] = double(polygons);
     state.counters["blocks_sampled"] = double(sampled);
+    state.counters["grid_values"] = double(values);
 }
 BENCHMARK(BM_FullPolygonizeOpenVDB)->Unit(benchmark::kMillisecond)->UseRealTime();
 

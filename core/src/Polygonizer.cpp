@@ -480,25 +480,25 @@ void Polygonizer::mergeBlocks(BlockList& into, BlockList more) {
     into = std::move(out);
 }
 
-void Polygonizer::evaluateMissingSums(const BlockList& blocks, std::vector<char>& culled,
-                                      std::vector<char>& finished,
+void Polygonizer::evaluateMissingSums(const BlockList& blocks, size_t begin, size_t end,
+                                      std::vector<char>& culled, std::vector<char>& finished,
                                       std::vector<std::unique_ptr<LocalField>>& fields,
                                       bool threaded, const std::atomic<bool>* cancel,
                                       PolygonizeStats& stats) const {
     constexpr int B = kBlockCells, V = kBlockCells + 1;
     auto forEach = [&](auto&& body) {
         if (threaded)
-            parallelFor(mWorkers, blocks.size(), 2, [&](size_t i0, size_t i1) {
-                for (size_t i = i0; i < i1; ++i)
+            parallelFor(mWorkers, end - begin, 2, [&](size_t i0, size_t i1) {
+                for (size_t i = begin + i0; i < begin + i1; ++i)
                     body(i);
             });
         else
-            for (size_t i = 0; i < blocks.size(); ++i)
+            for (size_t i = begin; i < end; ++i)
                 body(i);
     };
     tbb::combinable<size_t> evals([] { return size_t(0); });
     tbb::combinable<size_t> gathers([] { return size_t(0); });
-    std::vector<char> fresh(blocks.size(), 0);
+    std::vector<char> fresh(blocks.size(), 0);  // (only [begin, end) is used)
     // 1. Which blocks need their sums: gathered, and their bounds tested.
     forEach([&](size_t i) {
         if (culled[i]) return;
@@ -530,7 +530,7 @@ void Polygonizer::evaluateMissingSums(const BlockList& blocks, std::vector<char>
     stats.blocksGathered += gathers.combine(std::plus<size_t>());
     if (cancel && cancel->load(std::memory_order_relaxed)) {
         // Half-made sums are dropped; those blocks are left stale, as the cancel asks.
-        for (size_t i = 0; i < blocks.size(); ++i)
+        for (size_t i = begin; i < end; ++i)
             if (fresh[i]) {
                 mSums[blockIndex(blocks[i][0], blocks[i][1], blocks[i][2])].reset();
                 fields[i].reset();
@@ -566,8 +566,9 @@ void Polygonizer::evaluateMissingSums(const BlockList& blocks, std::vector<char>
                     values[size_t((x * V + y) * V + z)] = part[(x * ey + y) * ez + z];
         evals.local() += size_t(ex * ey * ez);
     });
-    stats.gridValues = evals.combine(std::plus<size_t>());
-    stats.evaluations += stats.gridValues;
+    const size_t values = evals.combine(std::plus<size_t>());
+    stats.gridValues += values;
+    stats.evaluations += values;
     // 3. The shared vertices a block skipped, from the block that has them: step from the block
     // to the next one along any axis where the vertex is on the far face and the next block has
     // sums, until no such step is left. That block has sums, and for every axis where the vertex
@@ -640,7 +641,6 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
     // 1: rebuilt; 0: skipped after a cancel (still stale).
     std::vector<char> finished(blocks.size(), 1);
     std::vector<std::unique_ptr<LocalField>> fields(blocks.size());
-    evaluateMissingSums(blocks, culled, finished, fields, threaded, cancel, stats);
     tbb::combinable<size_t> evals([] { return size_t(0); });
     tbb::combinable<size_t> gathered([] { return size_t(0); });
     auto work = [&](size_t i) {
@@ -695,14 +695,23 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
             changed[i] = char(what);
         }
     };
-    if (threaded)
-        parallelFor(mWorkers, blocks.size(), 2, [&](size_t i0, size_t i1) {
-            for (size_t i = i0; i < i1; ++i)
+    // In slices, so that the skeletons gathered for a slice's blocks (kept from their sums to
+    // their roots) are held for one slice at a time: held for a whole 1e6-skeleton region they
+    // nearly doubled the peak memory (docs/benchmarks.md). The last slice first: blocks sorted
+    // by x take their far x faces from the slice after them, which then has kept sums.
+    for (size_t end = blocks.size(); end > 0;) {
+        const size_t begin = end > kSliceBlocks ? end - kSliceBlocks : 0;
+        evaluateMissingSums(blocks, begin, end, culled, finished, fields, threaded, cancel, stats);
+        if (threaded)
+            parallelFor(mWorkers, end - begin, 2, [&](size_t i0, size_t i1) {
+                for (size_t i = begin + i0; i < begin + i1; ++i)
+                    work(i);
+            });
+        else
+            for (size_t i = begin; i < end; ++i)
                 work(i);
-        });
-    else
-        for (size_t i = 0; i < blocks.size(); ++i)
-            work(i);
+        end = begin;
+    }
 
     stats.evaluations += evals.combine(std::plus<size_t>());
     stats.blocksGathered += gathered.combine(std::plus<size_t>());

@@ -151,13 +151,15 @@ class Polygonizer {
     /// added to.
     bool buildBlock(int bx, int by, int bz, BlockMesh& out, std::unique_ptr<LocalField>& field,
                     size_t& evaluations, size_t& gathered) const;
-    /// Rebuild's first step: grid sums for the blocks of `blocks` that have none and
+    /// A rebuild works through its blocks in slices of at most this many.
+    static constexpr size_t kSliceBlocks = 4096;
+    /// Rebuild's first step: grid sums for the blocks [begin, end) of `blocks` that have none and
     /// whose bounds may hold surface; the others are marked in `culled`. A grid vertex that
     /// several blocks share is splatted once (by one of them, or taken from a block whose sums
     /// are kept). `fields` gets each evaluated block's skeletons, for its roots. Blocks that
     /// `cancel` stopped are cleared in `finished`. Counts go to `stats`.
-    void evaluateMissingSums(const BlockList& blocks, std::vector<char>& culled,
-                             std::vector<char>& finished,
+    void evaluateMissingSums(const BlockList& blocks, size_t begin, size_t end,
+                             std::vector<char>& culled, std::vector<char>& finished,
                              std::vector<std::unique_ptr<LocalField>>& fields, bool threaded,
                              const std::atomic<bool>* cancel, PolygonizeStats& stats) const;
     /// Whether block (bx, by, bz) lies in the region and has grid sums.

@@ -152,7 +152,7 @@ class Polygonizer {
     bool buildBlock(int bx, int by, int bz, BlockMesh& out, std::unique_ptr<LocalField>& field,
                     size_t& evaluations, size_t& gathered) const;
     /// A rebuild works through its blocks in slices of at most this many.
-    static constexpr size_t kSliceBlocks = 4096;
+    static constexpr size_t kSliceBlocks = 2048;
     /// Rebuild's first step: grid sums for the blocks [begin, end) of `blocks` that have none and
     /// whose bounds may hold surface; the others are marked in `culled`. A grid vertex that
     /// several blocks share is splatted once (by one of them, or taken from a block whose sums

@@ -27,6 +27,20 @@ constexpr int kMaxRootSteps = 40;
 /// (by up to 8 %, measured on sculpted clay): roots stop at this fraction of the tolerance.
 constexpr double kFirstOrderMargin = 0.9;
 
+/// body(i) for i in [begin, end): on `pool` (or oneTBB) when `threaded`, else in order.
+template <typename Body>
+void forEachIndex(WorkerPool* pool, bool threaded, size_t begin, size_t end, Body&& body) {
+    if (!threaded) {
+        for (size_t i = begin; i < end; ++i)
+            body(i);
+        return;
+    }
+    parallelFor(pool, end - begin, 2, [&](size_t i0, size_t i1) {
+        for (size_t i = begin + i0; i < begin + i1; ++i)
+            body(i);
+    });
+}
+
 /// Grid edge from vertex g (the componentwise smaller end) along dir (bits x, y, z).
 uint64_t edgeKey(int64_t gx, int64_t gy, int64_t gz, int dir) {
     constexpr uint64_t m = (uint64_t(1) << 20) - 1;
@@ -486,19 +500,11 @@ void Polygonizer::evaluateMissingSums(const BlockList& blocks, size_t begin, siz
                                       bool threaded, const std::atomic<bool>* cancel,
                                       PolygonizeStats& stats) const {
     constexpr int B = kBlockCells, V = kBlockCells + 1;
-    auto forEach = [&](auto&& body) {
-        if (threaded)
-            parallelFor(mWorkers, end - begin, 2, [&](size_t i0, size_t i1) {
-                for (size_t i = begin + i0; i < begin + i1; ++i)
-                    body(i);
-            });
-        else
-            for (size_t i = begin; i < end; ++i)
-                body(i);
-    };
+    auto forEach = [&](auto&& body) { forEachIndex(mWorkers, threaded, begin, end, body); };
     tbb::combinable<size_t> evals([] { return size_t(0); });
     tbb::combinable<size_t> gathers([] { return size_t(0); });
-    std::vector<char> fresh(blocks.size(), 0);  // (only [begin, end) is used)
+    std::vector<char> freshFromBegin(end - begin, 0);
+    auto fresh = [&](size_t i) -> char& { return freshFromBegin[i - begin]; };
     // 1. Which blocks need their sums: gathered, and their bounds tested.
     forEach([&](size_t i) {
         if (culled[i]) return;
@@ -525,13 +531,13 @@ void Polygonizer::evaluateMissingSums(const BlockList& blocks, size_t begin, siz
         kept = kUnknownBounds;
         mSums[idx] = std::make_unique<BlockSums>();
         fields[i] = std::move(field);
-        fresh[i] = 1;
+        fresh(i) = 1;
     });
     stats.blocksGathered += gathers.combine(std::plus<size_t>());
     if (cancel && cancel->load(std::memory_order_relaxed)) {
         // Half-made sums are dropped; those blocks are left stale, as the cancel asks.
         for (size_t i = begin; i < end; ++i)
-            if (fresh[i]) {
+            if (fresh(i)) {
                 mSums[blockIndex(blocks[i][0], blocks[i][1], blocks[i][2])].reset();
                 fields[i].reset();
                 finished[i] = 0;
@@ -551,7 +557,7 @@ void Polygonizer::evaluateMissingSums(const BlockList& blocks, size_t begin, siz
         return hasSums(n[0], n[1], n[2]) ? B : V;  // vertices evaluated along `axis`
     };
     forEach([&](size_t i) {
-        if (!fresh[i]) return;
+        if (!fresh(i)) return;
         const auto& b = blocks[i];
         const int ex = ownExtent(b, 0), ey = ownExtent(b, 1), ez = ownExtent(b, 2);
         double xs[V], ys[V], zs[V];
@@ -575,7 +581,7 @@ void Polygonizer::evaluateMissingSums(const BlockList& blocks, size_t begin, siz
     // is still on its far face the block after it has none, so if it was evaluated in step 2
     // it did not skip the vertex. Step 2 has finished, so every such value is there.
     forEach([&](size_t i) {
-        if (!fresh[i]) return;
+        if (!fresh(i)) return;
         const auto& b = blocks[i];
         const int ex = ownExtent(b, 0), ey = ownExtent(b, 1), ez = ownExtent(b, 2);
         auto& values = mSums[blockIndex(b[0], b[1], b[2])]->values;
@@ -702,14 +708,7 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
     for (size_t end = blocks.size(); end > 0;) {
         const size_t begin = end > kSliceBlocks ? end - kSliceBlocks : 0;
         evaluateMissingSums(blocks, begin, end, culled, finished, fields, threaded, cancel, stats);
-        if (threaded)
-            parallelFor(mWorkers, end - begin, 2, [&](size_t i0, size_t i1) {
-                for (size_t i = begin + i0; i < begin + i1; ++i)
-                    work(i);
-            });
-        else
-            for (size_t i = begin; i < end; ++i)
-                work(i);
+        forEachIndex(mWorkers, threaded, begin, end, work);
         end = begin;
     }
 

@@ -814,6 +814,32 @@ BENCHMARK(BM_FrameLoopAsync)
     ->Iterations(1)
     ->UseRealTime();
 
+/// What a zoom change costs before its region is complete: a new polygonizer over the zoom's
+/// region, centred above the pile as the frame-loop benchmarks are, built whole on 2 threads
+/// (`Session::catchUpView` does this synchronously in `play`; the windows show the previous
+/// mesh meanwhile).
+void BM_ZoomChange(benchmark::State& state) {
+    DenseModel& model = denseModel(size_t(state.range(0)));
+    const Sculpture& s = *model.sculpture;
+    FieldProbe probe(*denseModel(kPileOnly).sculpture);
+    const GridRegion region = zoomRegion(s.config(), s.levels(), int(state.range(1)),
+                                         surfaceAbove(probe, kPileCenter.x, kPileCenter.y));
+    PolygonizeStats stats;
+    for (auto _ : state) {
+        Polygonizer poly(s, region, s.config().polygonizer.rootTolerance);
+        stats = poly.rebuildAll(true);
+    }
+    state.counters["skeletons"] = double(s.counts().total());
+    state.counters["grid_values"] = double(stats.gridValues);
+    state.counters["evaluations"] = double(stats.evaluations);
+    state.counters["blocks_meshed"] = double(stats.blocksConsidered - stats.blocksCulled);
+}
+BENCHMARK(BM_ZoomChange)
+    ->ArgNames({"skeletons", "zoom"})
+    ->ArgsProduct({{100000, 1000000}, {1, 3, 5}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
 /// Heap bytes a callable leaves allocated (glibc's main arena: run it on this thread only).
 template <class F>
 size_t heapBytesKept(F&& f) {

@@ -27,15 +27,17 @@ constexpr int kMaxRootSteps = 40;
 /// (by up to 8 %, measured on sculpted clay): roots stop at this fraction of the tolerance.
 constexpr double kFirstOrderMargin = 0.9;
 
-/// body(i) for i in [begin, end): on `pool` (or oneTBB) when `threaded`, else in order.
+/// body(i) for i in [begin, end): on `pool` (or oneTBB) in ranges of at least `grain` when
+/// `threaded`, else in order.
 template <typename Body>
-void forEachIndex(WorkerPool* pool, bool threaded, size_t begin, size_t end, Body&& body) {
+void forEachIndex(WorkerPool* pool, bool threaded, size_t begin, size_t end, Body&& body,
+                  size_t grain = 2) {
     if (!threaded) {
         for (size_t i = begin; i < end; ++i)
             body(i);
         return;
     }
-    parallelFor(pool, end - begin, 2, [&](size_t i0, size_t i1) {
+    parallelFor(pool, end - begin, grain, [&](size_t i0, size_t i1) {
         for (size_t i = begin + i0; i < begin + i1; ++i)
             body(i);
     });
@@ -534,6 +536,9 @@ void Polygonizer::evaluateMissingSums(const BlockList& blocks, size_t begin, siz
         fresh(i) = 1;
     });
     stats.blocksGathered += gathers.combine(std::plus<size_t>());
+    // Most of an edit's blocks keep their sums: then the steps below have nothing to do, and
+    // are not dispatched to the workers at all.
+    if (std::find(freshFromBegin.begin(), freshFromBegin.end(), 1) == freshFromBegin.end()) return;
     if (cancel && cancel->load(std::memory_order_relaxed)) {
         // Half-made sums are dropped; those blocks are left stale, as the cancel asks.
         for (size_t i = begin; i < end; ++i)
@@ -629,14 +634,7 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
             const LocalField field(mSculpture, blockBox(cx * per, cy * per, cz * per, kChunkCells));
             chunkCulled[idx] = !field.bounds().mayContainSurface();
         };
-        if (threaded)
-            parallelFor(mWorkers, chunkCulled.size(), 16, [&](size_t i0, size_t i1) {
-                for (size_t i = i0; i < i1; ++i)
-                    testChunk(i);
-            });
-        else
-            for (size_t i = 0; i < chunkCulled.size(); ++i)
-                testChunk(i);
+        forEachIndex(mWorkers, threaded, 0, chunkCulled.size(), testChunk, 16);
         const int per = kChunkCells / kBlockCells;
         for (size_t i = 0; i < blocks.size(); ++i) {
             const auto& b = blocks[i];

@@ -66,7 +66,7 @@ void printSummary(const core::Sculpture& s, std::ostream& out) {
 
     const core::GridRegion region = core::zoomRegion(cfg, lv, 1, cfg.sphereCenterMm);
     const auto t0 = std::chrono::steady_clock::now();
-    core::Polygonizer poly(s, region, cfg.polygonizer.rootTolerance);
+    core::Polygonizer poly(s, region, cfg.polygonizer.viewRootTolerance);
     const core::PolygonizeStats st = poly.rebuildAll();
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -442,6 +442,7 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
                   "replaced by root_tolerance, which is also given: remove this one");
     }
     poly.number("root_tolerance", cfg.polygonizer.rootTolerance);
+    poly.number("view_root_tolerance", cfg.polygonizer.viewRootTolerance);
     poly.rejectUnknown();
 
     Section inter = top.sub("interaction");
@@ -642,7 +643,8 @@ std::string configToJson(const SculptConfig& c) {
                         {"depth_step_over_diameter", c.interaction.depthStepOverDiameter},
                         {"rotate_rad_per_pixel", c.interaction.rotateRadPerPixel}};
     j["polygonizer"] = {{"grid_n", c.polygonizer.gridN},
-                        {"root_tolerance", c.polygonizer.rootTolerance}};
+                        {"root_tolerance", c.polygonizer.rootTolerance},
+                        {"view_root_tolerance", c.polygonizer.viewRootTolerance}};
     return j.dump(2);
 }
 
@@ -754,11 +756,13 @@ void validateConfig(const SculptConfig& c) {
     if (c.polygonizer.gridN < 16 || c.polygonizer.gridN > 1024 || c.polygonizer.gridN % 16 != 0)
         fail("polygonizer.grid_n", "must be a multiple of 16 between 16 and 1024 (got " +
                                        std::to_string(c.polygonizer.gridN) + ")");
-    if (!(std::isfinite(c.polygonizer.rootTolerance) && c.polygonizer.rootTolerance >= 1e-9 &&
-          c.polygonizer.rootTolerance <= 0.5))
-        fail("polygonizer.root_tolerance",
-             "must be in [1e-9, 0.5] (a fraction of the grid spacing; got " +
-                 num(c.polygonizer.rootTolerance) + ")");
+    auto tolerance = [&](const char* key, double value) {
+        if (!(std::isfinite(value) && value >= 1e-9 && value <= 0.5))
+            fail(key,
+                 "must be in [1e-9, 0.5] (a fraction of the grid spacing; got " + num(value) + ")");
+    };
+    tolerance("polygonizer.root_tolerance", c.polygonizer.rootTolerance);
+    tolerance("polygonizer.view_root_tolerance", c.polygonizer.viewRootTolerance);
 }
 
 }  // namespace vsculpt::core

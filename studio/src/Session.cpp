@@ -143,8 +143,8 @@ void Session::setDeferredMeshing(bool on) {
 void Session::catchUpView() const {
     if (mMesher) return;
     if (mViewRegionStale) {
-        mView =
-            std::make_unique<Polygonizer>(*mSculpture, mRegion, mConfig.polygonizer.rootTolerance);
+        mView = std::make_unique<Polygonizer>(*mSculpture, mRegion,
+                                              mConfig.polygonizer.viewRootTolerance);
         mView->rebuildAll();
     } else if (!mDirtyBlocks.empty()) {
         // Its kept grid sums missed the writes: the polygonizer notices and evaluates afresh.
@@ -192,8 +192,8 @@ void Session::meshChanged(const Aabb& box) {
 void Session::setAsyncMeshing(bool on) {
     if (on == asyncMeshing()) return;
     if (on) {
-        mMesher =
-            std::make_unique<AsyncMesher>(*mSculpture, mRegion, mConfig.polygonizer.rootTolerance);
+        mMesher = std::make_unique<AsyncMesher>(*mSculpture, mRegion,
+                                                mConfig.polygonizer.viewRootTolerance);
         mWrites.clear();
         mView.reset();
         mSyncPublished.reset();

@@ -258,7 +258,7 @@ void BM_EditLatency(benchmark::State& state) {
         return;
     }
     const Strokes st = measuredStrokes(zoom, level, kMinSamples);
-    Polygonizer poly(s, st.region, s.config().polygonizer.rootTolerance);
+    Polygonizer poly(s, st.region, s.config().polygonizer.viewRootTolerance);
     poly.rebuildAll();
     std::vector<double> first, rest, placeMs, updateMs, publishMs, endMs;
     size_t evaluations = 0, blocks = 0, gathered = 0, chunks = 0, terms = 0;
@@ -634,7 +634,7 @@ void BM_FrameLoop(benchmark::State& state) {
     FieldProbe probe(*denseModel(kPileOnly).sculpture);  // the same path in every model
     const Vec3 top = surfaceAbove(probe, kPileCenter.x, kPileCenter.y);
     const GridRegion region = zoomRegion(s.config(), s.levels(), 1, top);
-    Polygonizer poly(s, region, s.config().polygonizer.rootTolerance);
+    Polygonizer poly(s, region, s.config().polygonizer.viewRootTolerance);
     poly.rebuildAll();
     const int c = poly.chunksPerAxis();
     std::vector<uint64_t> shown(size_t(c) * c * c);  // the renderer's chunk versions
@@ -733,7 +733,7 @@ void BM_FrameLoopAsync(benchmark::State& state) {
     const GridRegion region = zoomRegion(s.config(), s.levels(), zoom, top);
     std::vector<SkeletonWrite> writes;
     s.store().logWritesTo(&writes);
-    AsyncMesher mesher(s, region, s.config().polygonizer.rootTolerance, benchMesherOptions());
+    AsyncMesher mesher(s, region, s.config().polygonizer.viewRootTolerance, benchMesherOptions());
     const std::vector<std::vector<Vec3>> paths = frameLoopPaths(probe, top, d);
     const auto period = std::chrono::nanoseconds(11'111'111);
     std::vector<double> frameCpu, frameWall, delay, endDelay;
@@ -826,7 +826,7 @@ void BM_ZoomChange(benchmark::State& state) {
                                          surfaceAbove(probe, kPileCenter.x, kPileCenter.y));
     PolygonizeStats stats;
     for (auto _ : state) {
-        Polygonizer poly(s, region, s.config().polygonizer.rootTolerance);
+        Polygonizer poly(s, region, s.config().polygonizer.viewRootTolerance);
         stats = poly.rebuildAll(true);
     }
     state.counters["skeletons"] = double(s.counts().total());
@@ -865,8 +865,8 @@ void BM_Memory(benchmark::State& state) {
                                                  surfaceAbove(probe, kPileCenter.x, kPileCenter.y));
             std::unique_ptr<Polygonizer> poly;
             const size_t bytes = heapBytesKept([&] {
-                poly =
-                    std::make_unique<Polygonizer>(s, region, s.config().polygonizer.rootTolerance);
+                poly = std::make_unique<Polygonizer>(s, region,
+                                                     s.config().polygonizer.viewRootTolerance);
                 poly->rebuildAll(false);
             });
             (zoom == 1 ? poly1 : poly3) = bytes;

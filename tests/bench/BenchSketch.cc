@@ -46,7 +46,8 @@ void BM_SketchToClay(benchmark::State& state) {
     const double r = double(state.range(0));
     SculptConfig cfg;
     Sculpture s(cfg);
-    Polygonizer view(s, zoomRegion(cfg, s.levels(), 1, Vec3(0)), PolygonizerConfig{}.rootTolerance);
+    Polygonizer view(s, zoomRegion(cfg, s.levels(), 1, Vec3(0)),
+                     PolygonizerConfig{}.viewRootTolerance);
     view.rebuildAll();
     sketch::SketchSolidInput in;
     in.construction = sketch::SolidConstruction::Inflate;

@@ -59,6 +59,7 @@ TEST(Config, ShippedFileEqualsBuiltInDefaults) {
     EXPECT_EQ(file.zoom.allowedSizes, def.zoom.allowedSizes);
     EXPECT_EQ(file.polygonizer.gridN, def.polygonizer.gridN);
     EXPECT_EQ(file.polygonizer.rootTolerance, def.polygonizer.rootTolerance);
+    EXPECT_EQ(file.polygonizer.viewRootTolerance, def.polygonizer.viewRootTolerance);
     EXPECT_EQ(file.interaction.bindings, def.interaction.bindings);
     EXPECT_EQ(file.render.stereo, def.render.stereo);
     EXPECT_EQ(file.render.ipdMm, def.render.ipdMm);
@@ -122,6 +123,12 @@ TEST(Config, AnOldBisectionBracketBecomesTheRootTolerance) {
     EXPECT_EQ(parseConfig(R"({"polygonizer": {"root_tolerance": 0.002}})", "new.json")
                   .polygonizer.rootTolerance,
               0.002);
+    // The mesh on show has its own tolerance; setting one leaves the other alone.
+    const SculptConfig view =
+        parseConfig(R"({"polygonizer": {"view_root_tolerance": 0.05}})", "view.json");
+    EXPECT_EQ(view.polygonizer.viewRootTolerance, 0.05);
+    EXPECT_EQ(view.polygonizer.rootTolerance, def.polygonizer.rootTolerance);
+    EXPECT_EQ(parseConfig(configToJson(view), "back.json").polygonizer.viewRootTolerance, 0.05);
 }
 
 TEST(Config, ReadsTheHeadsetSection) {
@@ -231,6 +238,9 @@ TEST(Config, BadValuesNameTheKeyAndReason) {
         {R"({"render": {"ipd_mm": -1}})", "render.ipd_mm: must be in [0, 200] mm"},
         {R"({"polygonizer": {"grid_n": 1.5}})", "polygonizer.grid_n: expected an integer"},
         {R"({"polygonizer": {"root_tolerance": 0.9}})", "polygonizer.root_tolerance: must be in"},
+        {R"({"polygonizer": {"view_root_tolerance": 0}})",
+         "polygonizer.view_root_tolerance: must be in"},
+        {R"({"polygonizer": {"view_root_tolerance": "fine"}})", "polygonizer.view_root_tolerance"},
         {R"({"polygonizer": {"bisection_tolerance": 0.9}})",
          "polygonizer.bisection_tolerance: must be in"},
         {R"({"polygonizer": {"bisection_tolerance": 0.1, "root_tolerance": 0.01}})",

@@ -215,4 +215,46 @@ TEST(Playback, DumbbellCutInTwo) {
     EXPECT_EQ(core::analyzeTopology(s->wholeMesh(1.0)).components, 1u);
 }
 
+// The mesh on show and the exports have their own root tolerances
+// (polygonizer.view_root_tolerance, polygonizer.root_tolerance): each mesh's vertices lie
+// within its own, whichever of the two is the finer (a session that took the other's would
+// fail one of the two configurations).
+TEST(Playback, TheMeshOnShowAndExportsKeepTheirOwnRootTolerances) {
+    const Script script = parseScript(R"(size 6
+stroke 20 -30 10  30 -20 25  35 0 30
+tool carve
+size 5
+stroke 10 -38 -5  25 -30 -10  38 -5 -12
+)",
+                                      "tolerances.vsc");
+    // Largest first-order distance |f| / |grad f| of a mesh's vertices from the surface.
+    auto worst = [](const core::Sculpture& sculpture, const core::Mesh& mesh) {
+        core::FieldProbe probe(sculpture);
+        double d = 0;
+        for (const core::Vec3& p : mesh.positions) {
+            const core::FieldSample s = probe.sample(p);
+            d = std::max(d, std::abs(s.value) / glm::length(s.gradient));
+        }
+        return d;
+    };
+    for (const auto& [view, exports] : {std::pair{0.1, 0.001}, std::pair{0.001, 0.1}}) {
+        core::SculptConfig cfg;
+        cfg.polygonizer.gridN = 48;
+        cfg.polygonizer.viewRootTolerance = view;
+        cfg.polygonizer.rootTolerance = exports;
+        Session session(cfg);
+        for (const ScriptCommand& c : script.commands)
+            session.apply(c);
+        const core::Polygonizer& poly = session.view();
+        ASSERT_GT(poly.mesh().triangleCount(), 1000u);
+        EXPECT_LE(worst(session.sculpture(), poly.mesh()), view * poly.region().spacingMm)
+            << "view tolerance " << view;
+        const double spacing = 1.5;
+        const core::Mesh whole = session.wholeMesh(spacing);
+        ASSERT_GT(whole.triangleCount(), 1000u);
+        EXPECT_LE(worst(session.sculpture(), whole), exports * spacing)
+            << "export tolerance " << exports;
+    }
+}
+
 }  // namespace

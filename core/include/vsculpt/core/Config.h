@@ -55,9 +55,15 @@ struct ZoomConfig {
 
 struct PolygonizerConfig {
     int gridN = 128;  ///< N: cells per axis of the region on show (thesis: N^3)
-    /// Edge roots are refined until |f| / |grad f| (the first-order distance of the vertex
-    /// from the surface) is below this fraction of the grid spacing (docs/polygonizer.md).
+    /// Edge roots of exports and ray-traced stills are refined until |f| / |grad f| (the
+    /// first-order distance of the vertex from the surface) is below this fraction of the
+    /// grid spacing (docs/polygonizer.md).
     double rootTolerance = 0.01;
+    /// The same for the mesh on show (the windows, `vsculpt play`'s edits). The window
+    /// shades by the field's gradient at each vertex, so a tenth of a cell (under a pixel at
+    /// the region's spacing) does not show, and it takes a fifth off the mesher's time per
+    /// edit (docs/polygonizer.md, "Two tolerances").
+    double viewRootTolerance = 0.1;
 };
 
 /// Actions of the window's keyboard, in configs/sculpt.json "interaction.bindings".

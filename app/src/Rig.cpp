@@ -278,6 +278,8 @@ std::string Rig::save() {
 }
 
 void Rig::close() {
+    // An export asked for is written before the window goes.
+    pollExport(true);
     mStudio->endStroke();
     if (!mStudio->session().hasJournaledEdits()) return;
     try {
@@ -373,19 +375,37 @@ std::string Rig::projectAction(const std::string& action) {
 }
 
 std::string Rig::exportTo(const std::filesystem::path& path, const core::ExportOptions& options) {
+    if (mExport && !mExport->done())
+        throw std::runtime_error("still writing " + mExport->path().string() +
+                                 ": export again once it is done");
+    // Whatever an earlier export did was already said (pollExport) or is said now.
+    pollExport();
+    // Refusals come before anything starts, while the dialog can still show them.
+    (void)core::exportFrame(path, options);
+    if (!path.parent_path().empty()) std::filesystem::create_directories(path.parent_path());
+    core::ensureWritable(path);
     const Session& s = mStudio->session();
     const double spacing = core::zoomSpacing(mConfig, s.sculpture().levels(), 1);
-    const core::Mesh mesh = s.wholeMesh(spacing);
-    core::ExportOptions eo = options;
-    eo.voxelSizeMm = spacing;
-    if (!path.parent_path().empty()) std::filesystem::create_directories(path.parent_path());
-    core::exportMesh(mesh, path, eo);
-    std::string said =
-        "exported " + path.string() + " (" + std::to_string(mesh.triangleCount()) + " triangles)";
-    // The window has no spacing to choose: it says what the export lost, for play to redo.
+    mExport = std::make_unique<ExportInBackground>(s.sculpture().clone(), spacing, path, options);
+    char said[64];
+    std::snprintf(said, sizeof said, " at %.3g mm", spacing);
+    std::string text = "exporting " + path.string() + said + "...";
+    // The window has no spacing to choose: it says what the export loses, for play to redo.
     if (const std::string lost = exportDetailWarning(s, spacing); !lost.empty())
-        said += "; " + lost;
-    return said;
+        text += "; " + lost;
+    return text;
+}
+
+std::optional<std::string> Rig::pollExport(bool wait) {
+    if (!mExport || (!wait && !mExport->done())) return std::nullopt;
+    bool failed = false;
+    std::string outcome = mExport->wait(&failed);
+    mExport.reset();
+    if (failed)
+        spdlog::warn("{}", outcome);
+    else
+        spdlog::info("{}", outcome);
+    return outcome;
 }
 
 }  // namespace vsculpt::app

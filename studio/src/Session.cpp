@@ -500,10 +500,15 @@ std::string Session::verifyMesh() const {
 }
 
 Mesh Session::wholeMesh(double spacing) const {
-    if (spacing == 0) spacing = zoomSpacing(mConfig, mSculpture->levels(), 1);
+    return wholeMeshOf(*mSculpture, spacing);
+}
+
+Mesh wholeMeshOf(const Sculpture& sculpture, double spacing) {
+    constexpr int kWholeMeshMaxCells = Session::kWholeMeshMaxCells;
+    if (spacing == 0) spacing = zoomSpacing(sculpture.config(), sculpture.levels(), 1);
     if (!std::isfinite(spacing) || spacing <= 0)
         throw SessionError("grid spacing must be a positive number of mm");
-    const Aabb bounds = mSculpture->supportBounds();
+    const Aabb bounds = sculpture.supportBounds();
     if (bounds.empty()) return {};
     // The extent in cells is computed in doubles first: a tiny spacing gives a cell count
     // no integer holds, and it is refused before any conversion.
@@ -534,7 +539,7 @@ Mesh Session::wholeMesh(double spacing) const {
                            std::to_string(kWholeMeshMaxCells) +
                            " per axis: choose a coarser spacing");
     r.n = int(n);
-    Polygonizer poly(*mSculpture, r, mConfig.polygonizer.rootTolerance);
+    Polygonizer poly(sculpture, r, sculpture.config().polygonizer.rootTolerance);
     poly.rebuildAll();
     return poly.mesh();
 }

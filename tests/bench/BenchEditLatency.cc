@@ -6,11 +6,13 @@
 /// docs/benchmarks.md.
 #include "vsculpt/core/AsyncMesher.h"
 #include "vsculpt/core/EvalField.h"
+#include "vsculpt/core/ExportMesh.h"
 #include "vsculpt/core/History.h"
 #include "vsculpt/core/PlaceStroke.h"
 #include "vsculpt/core/Polygonizer.h"
 #include "vsculpt/core/Sculpture.h"
 #include "vsculpt/core/ToolLevels.h"
+#include "vsculpt/studio/Session.h"
 
 #include <benchmark/benchmark.h>
 #include <malloc.h>
@@ -18,11 +20,13 @@
 #include <openvdb/tools/VolumeToMesh.h>
 #include <tbb/parallel_for.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <numeric>
@@ -883,6 +887,45 @@ void BM_Memory(benchmark::State& state) {
     state.counters["poly_zoom1_MB"] = double(poly1) / 1e6;
     state.counters["poly_zoom3_MB"] = double(poly3) / 1e6;
 }
+/// What a window's export key costs the frame (the snapshot the export thread takes,
+/// Sculpture::clone) against what it cost when the frame meshed and wrote the file itself
+/// (studio::wholeMeshOf at the zoom-1 spacing and a .glb written, now the export thread's).
+void BM_ExportRequest(benchmark::State& state) {
+    DenseModel& model = denseModel(size_t(state.range(0)));
+    const Sculpture& s = *model.sculpture;
+    const auto path = std::filesystem::temp_directory_path() /
+                      ("vsculpt-bench-export-" + std::to_string(::getpid()) + ".glb");
+    std::vector<double> cloneMs, meshMs, writeMs;
+    size_t triangles = 0;
+    for (auto _ : state) {
+        const auto t0 = Clock::now();
+        std::unique_ptr<const Sculpture> snapshot = s.clone();
+        const auto t1 = Clock::now();
+        const Mesh mesh = vsculpt::studio::wholeMeshOf(*snapshot);
+        const auto t2 = Clock::now();
+        exportMesh(mesh, path);
+        const auto t3 = Clock::now();
+        cloneMs.push_back(msSince(t0, t1));
+        meshMs.push_back(msSince(t1, t2));
+        writeMs.push_back(msSince(t2, t3));
+        triangles = mesh.triangleCount();
+    }
+    std::filesystem::remove(path);
+    state.counters["frame_before_ms"] = quantile(meshMs, 0.5) + quantile(writeMs, 0.5);
+    state.counters["frame_now_ms"] = quantile(cloneMs, 0.5);
+    state.counters["mesh_ms"] = quantile(meshMs, 0.5);
+    state.counters["write_ms"] = quantile(writeMs, 0.5);
+    state.counters["triangles"] = double(triangles);
+    state.counters["skeletons"] = double(s.counts().total());
+}
+BENCHMARK(BM_ExportRequest)
+    ->ArgName("skeletons")
+    ->Arg(10000)
+    ->Arg(100000)
+    ->Arg(1000000)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(5);
+
 BENCHMARK(BM_Memory)
     ->ArgName("skeletons")
     ->Arg(10000)

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "vsculpt/app/DeviceInput.h"
+#include "vsculpt/app/ExportInBackground.h"
 #include "vsculpt/app/LiveDevices.h"
 #include "vsculpt/core/ExportMesh.h"
 #include "vsculpt/render/ProjectStroke.h"
@@ -117,10 +118,18 @@ class Rig {
     /// Save as: the whole project copied to `dir` (a new folder) and continued there; the
     /// old project stays as it was at this moment. Returns what it did.
     std::string saveAs(const std::filesystem::path& dir);
-    /// The whole sculpture exported to `path` (format from the extension, frame from
-    /// `options`; ExportMesh.h). Throws core::ExportError and file errors naming the path.
+    /// Starts exporting the whole sculpture, as it is now, to `path` (format from the
+    /// extension, frame from `options`; ExportMesh.h) on its own thread: the frame goes on
+    /// while it is meshed and written (pollExport() says when it is done). Returns what was
+    /// started, for the user. Throws core::ExportError naming the path for a format or frame
+    /// the file cannot have and file errors for a folder that cannot be made, before anything
+    /// starts; std::runtime_error while an earlier export is still being written.
     std::string exportTo(const std::filesystem::path& path,
                          const core::ExportOptions& options = {});
+    /// What the export in flight did, once it is done (nothing while it runs, or without
+    /// one); `wait` waits for it. Also logged (a failed export as a warning). close() waits
+    /// for it too.
+    std::optional<std::string> pollExport(bool wait = false);
     /// Where the export key writes: exports/DATE-TIME.glb in the project (dataDir()/exports
     /// without a project).
     std::filesystem::path defaultExportPath() const;
@@ -145,6 +154,7 @@ class Rig {
     std::unique_ptr<studio::Interaction> mInteraction;
     std::unique_ptr<LiveDevices> mLive;
     std::unique_ptr<DeviceInput> mDevices;
+    std::unique_ptr<ExportInBackground> mExport;  // the export in flight
 };
 
 }  // namespace vsculpt::app

@@ -173,8 +173,7 @@ class Session {
     /// The most cells per axis wholeMesh's grid may have.
     static constexpr int kWholeMeshMaxCells = 1024;
     /// The whole sculpture polygonized at `spacingMm` (0: the zoom-1 spacing), for exports
-    /// and statistics. Throws SessionError for a spacing that is not finite and positive, or
-    /// when the grid would exceed kWholeMeshMaxCells per axis.
+    /// and statistics: wholeMeshOf(sculpture(), spacingMm).
     core::Mesh wholeMesh(double spacingMm = 0) const;
 
   private:
@@ -229,5 +228,12 @@ class Session {
     std::string mRecoveryWarning;
     size_t mRecovered = 0;
 };
+
+/// The whole of `sculpture` polygonized at `spacingMm` (0: its zoom-1 spacing) to its
+/// config's export root tolerance, for exports and statistics; reads nothing but `sculpture`
+/// (an export thread runs it on a snapshot, Sculpture::clone). Throws SessionError for a
+/// spacing that is not finite and positive, or when the grid would exceed
+/// Session::kWholeMeshMaxCells per axis.
+core::Mesh wholeMeshOf(const core::Sculpture& sculpture, double spacingMm = 0);
 
 }  // namespace vsculpt::studio

@@ -1,0 +1,137 @@
+// SPDX-License-Identifier: MIT
+// A window's export is meshed and written on its own thread (the frame never waits for it):
+// the file holds the clay as it was when the export was asked for, whatever is sculpted
+// meanwhile; refusals come at once, before anything starts; closing waits for the file.
+// Read back by Assimp (a third-party loader from Debian).
+#include "vsculpt/app/Rig.h"
+#include "vsculpt/core/ExportMesh.h"
+#include "vsculpt/core/Zoom.h"
+
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <gtest/gtest.h>
+#include <assimp/Importer.hpp>
+
+#include <unistd.h>
+#include <filesystem>
+#include <fstream>
+
+using namespace vsculpt;
+using core::Vec3;
+
+namespace {
+
+core::SculptConfig smallSphere() {
+    core::SculptConfig cfg;
+    cfg.sphereRadiusMm = 25;
+    cfg.polygonizer.gridN = 32;
+    return cfg;
+}
+
+struct Loaded {
+    size_t faces = 0;
+    core::Aabb box;
+};
+
+Loaded load(const std::filesystem::path& path) {
+    Assimp::Importer importer;
+    const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate);
+    EXPECT_NE(scene, nullptr) << path << ": " << importer.GetErrorString();
+    Loaded out;
+    if (!scene) return out;
+    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+        out.faces += scene->mMeshes[m]->mNumFaces;
+        for (unsigned v = 0; v < scene->mMeshes[m]->mNumVertices; ++v) {
+            const aiVector3D& p = scene->mMeshes[m]->mVertices[v];
+            out.box.expand(Vec3(p.x, p.y, p.z));
+        }
+    }
+    return out;
+}
+
+core::Aabb bounds(const core::Mesh& m) {
+    core::Aabb b;
+    for (const Vec3& p : m.positions)
+        b.expand(p);
+    return b;
+}
+
+struct ExportInBackground : ::testing::Test {
+    std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                ("vsculpt-bg-export-" + std::to_string(::getpid()));
+    void SetUp() override { std::filesystem::create_directories(dir); }
+    void TearDown() override { std::filesystem::remove_all(dir); }
+};
+
+}  // namespace
+
+TEST_F(ExportInBackground, TheFileHoldsTheClayAsItWasWhenAskedWhileSculptingGoesOn) {
+    app::Rig rig(smallSphere(), app::RigOptions{});
+    studio::Studio& studio = rig.studio();
+    studio.setSize(5);
+    studio.stroke({Vec3(-30, 0, 10), Vec3(0, 0, 28), Vec3(30, 0, 10)}, false);
+    const core::Mesh asked = rig.session().wholeMesh();
+    const std::filesystem::path path = dir / "asked.stl";
+    const std::string said = rig.exportTo(path);
+    EXPECT_EQ(said.rfind("exporting " + path.string(), 0), 0u) << said;
+    // Sculpting goes on at once: a stroke that reaches well beyond the exported clay.
+    studio.stroke({Vec3(0, -30, 20), Vec3(0, -45, 35)}, false);
+    const core::Mesh after = rig.session().wholeMesh();
+    const std::optional<std::string> outcome = rig.pollExport(true);
+    ASSERT_TRUE(outcome);
+    EXPECT_EQ(*outcome, "exported " + path.string() + " (" + std::to_string(asked.triangleCount()) +
+                            " triangles)");
+    EXPECT_FALSE(rig.pollExport(true));  // said once
+    // The file is the clay as asked (STL: millimetres, Z up, the object's own frame), not
+    // as it is now, which differs by more than the comparison's tolerance.
+    const Loaded file = load(path);
+    EXPECT_EQ(file.faces, asked.triangleCount());
+    const core::Aabb want = bounds(asked), now = bounds(after);
+    for (int a = 0; a < 3; ++a) {
+        EXPECT_NEAR(file.box.min[a], want.min[a], 1e-3);
+        EXPECT_NEAR(file.box.max[a], want.max[a], 1e-3);
+    }
+    EXPECT_LT(now.min.y, want.min.y - 5);
+    // A second export after the first is done starts as the first did.
+    EXPECT_EQ(rig.exportTo(dir / "now.stl").rfind("exporting ", 0), 0u);
+    ASSERT_TRUE(rig.pollExport(true));
+    EXPECT_EQ(load(dir / "now.stl").faces, after.triangleCount());
+}
+
+TEST_F(ExportInBackground, RefusalsComeBeforeAnythingStarts) {
+    app::Rig rig(smallSphere(), app::RigOptions{});
+    // An unknown format, a frame the format refuses, a folder that is a file: refused with
+    // the path named, and nothing is started (nothing to wait for, no file).
+    EXPECT_THROW(
+        {
+            try {
+                rig.exportTo(dir / "clay.xyz");
+            } catch (const core::ExportError& e) {
+                EXPECT_NE(std::string(e.what()).find("clay.xyz"), std::string::npos) << e.what();
+                throw;
+            }
+        },
+        core::ExportError);
+    core::ExportOptions zUp;
+    zUp.up = core::UpAxis::Z;
+    EXPECT_THROW(rig.exportTo(dir / "clay.glb", zUp), core::ExportError);
+    std::ofstream(dir / "file") << "not a folder";
+    EXPECT_ANY_THROW(rig.exportTo(dir / "file" / "clay.stl"));
+    EXPECT_FALSE(rig.pollExport(true));
+    EXPECT_FALSE(std::filesystem::exists(dir / "clay.xyz"));
+    EXPECT_FALSE(std::filesystem::exists(dir / "clay.glb"));
+}
+
+TEST_F(ExportInBackground, ClosingWaitsForTheFile) {
+    const std::filesystem::path path = dir / "closing.glb";
+    size_t triangles = 0;
+    {
+        app::Rig rig(smallSphere(), app::RigOptions{});
+        triangles = rig.session().wholeMesh().triangleCount();
+        rig.exportTo(path);
+        rig.close();  // what a window does as it goes, right after the export key
+        EXPECT_FALSE(rig.pollExport(true));  // close() took the outcome
+    }
+    ASSERT_TRUE(std::filesystem::exists(path));
+    EXPECT_EQ(load(path).faces, triangles);
+}

@@ -340,3 +340,132 @@ TEST(Studio, ReadOnlyProjectsRefuseEditsAndKeepTheSculptureAsItWas) {
 }
 
 }  // namespace
+
+namespace {
+
+// Sculpt steps, undos and redos leave sketch.json as it was wherever the journal alone gives
+// the timeline back on opening (a stroke made with nothing to redo always does). Random sessions of
+// strokes, sketch lines, lines on the model, undos and redos, reopened every one to three steps
+// without saving: the timeline, what can be redone, the mesh and the sketch are exactly as they
+// were live, and undo walks back the same way.
+TEST(Studio, ReopeningGivesTheTimelineBackWhateverTheStepsSinceTheSketchFile) {
+    using Step = Studio::Step;
+    size_t sketchWrites = 0, sculptOps = 0;
+    for (const unsigned seed : {1u, 2u, 3u, 4u, 5u}) {
+        SCOPED_TRACE("seed " + std::to_string(seed));
+        TempDir dir;
+        std::mt19937 rng(seed);
+        std::vector<Step> done, redo;
+        State live;
+        for (int round = 0; round < 24; ++round) {
+            auto studio = Studio::openProject(dir.path, smallConfig());
+            studio->setSurfaceProjector(
+                [](const Session&, const std::vector<glm::dvec2>& px, glm::ivec2) {
+                    std::vector<std::vector<Vec3>> lines(1);
+                    for (const glm::dvec2& p : px)
+                        lines[0].push_back(Vec3(p.x / 20, -20, p.y / 20));
+                    return lines;
+                });
+            if (round > 0) {
+                EXPECT_EQ(studio->timeline(), done) << "round " << round;
+                EXPECT_EQ(studio->redoTimeline(), redo) << "round " << round;
+                EXPECT_EQ(state(*studio), live) << "round " << round;
+            }
+            for (int k = 0, n = 1 + int(rng() % 3); k < n; ++k) {
+                // The file's time set back: a write replaces the file with one of the time now.
+                const auto file = dir.path / "sketch.json";
+                const auto longAgo = std::filesystem::file_time_type{};
+                if (std::filesystem::exists(file)) std::filesystem::last_write_time(file, longAgo);
+                const bool sketchBefore =
+                    std::any_of(studio->redoTimeline().begin(), studio->redoTimeline().end(),
+                                [](const Step& s) { return !s.sculpt(); });
+                const size_t redoBefore = studio->redoTimeline().size();
+                // 0, 1: a stroke (add, carve), 2: a sketch line, 3: a line on the model,
+                // 4: undo (three times as often), 5: redo (twice), so that steps of every
+                // kind come to be redone.
+                const int r = int(rng() % 9);
+                const int op = r <= 3 ? r : r <= 6 ? 4 : 5;
+                const double x = double(rng() % 40) - 20, z = double(rng() % 10) + 16;
+                bool sculptOp = false;
+                if (op == 0 || op == 1) {
+                    std::ostringstream s;
+                    s << "tool " << (op == 0 ? "add" : "carve") << "\nsize 5\nstroke " << x << " 0 "
+                      << z << " " << x + 4 << " 0 " << z + 1 << "\n";
+                    run(*studio, s.str());
+                    sculptOp = true;
+                } else if (op == 2) {
+                    run(*studio, "page Body Figures\n" + linePen(40 + x, -30, 80 + x, -30 + z));
+                } else if (op == 3) {
+                    run(*studio, "model-line 400 300 20,150 380," + std::to_string(100 + z) + "\n");
+                } else if (op == 4) {
+                    sculptOp = !studio->timeline().empty() && studio->timeline().back().sculpt();
+                    studio->undo();
+                } else {
+                    sculptOp =
+                        !studio->redoTimeline().empty() && studio->redoTimeline().back().sculpt();
+                    studio->redo();
+                }
+                const bool sketchAfter =
+                    std::any_of(studio->redoTimeline().begin(), studio->redoTimeline().end(),
+                                [](const Step& s) { return !s.sculpt(); });
+                const bool written = std::filesystem::exists(file) &&
+                                     std::filesystem::last_write_time(file) != longAgo;
+                // A stroke made with nothing to redo (the common case: sculpting on) leaves the
+                // file as it was.
+                if (op <= 1 && redoBefore == 0) {
+                    EXPECT_FALSE(written) << "round " << round;
+                    ++sculptOps;
+                }
+                // Where the file must say more than the journal: a sculpt undo or redo with
+                // sketch steps to redo.
+                sketchWrites += sculptOp && sketchBefore && sketchAfter;
+            }
+            done = studio->timeline();
+            redo = studio->redoTimeline();
+            live = state(*studio);
+        }
+        // Undo walks the reopened timeline back to the start.
+        auto studio = Studio::openProject(dir.path, smallConfig());
+        EXPECT_EQ(studio->timeline(), done);
+        while (studio->undo() || studio->stepCount() > 0) {
+        }
+        EXPECT_EQ(studio->session().history().done().size(), 0u);
+    }
+    // The sessions did what the test is about: strokes left the file alone, and sculpt undos
+    // and redos had sketch steps to redo at times.
+    EXPECT_GT(sculptOps, 10u);
+    EXPECT_GT(sketchWrites, 2u);
+}
+
+}  // namespace
+
+namespace {
+
+// Undo a stroke, then draw a sketch line: the line is a new step, so the stroke can no longer
+// be redone, and reopening the project must not offer it again (it did: the session keeps its
+// own redo list until its next stroke, and opening read that list as redo steps the file had
+// not seen, so redo re-applied a stroke the sculptor had thrown away).
+TEST(Studio, AStrokeASketchStepTookOffTheTimelineIsNotRedoneAfterReopening) {
+    TempDir dir;
+    uint64_t afterUndo = 0;
+    {
+        auto studio = Studio::openProject(dir.path, smallConfig());
+        run(*studio, "tool add\nsize 5\nstroke 0 0 22 5 0 24\n");
+        ASSERT_TRUE(studio->undo());
+        afterUndo = core::canonicalMeshHash(studio->session().view().mesh());
+        run(*studio, "page Body Figures\n" + linePen(40, -30, 80, -30));
+        EXPECT_EQ(studio->redoCount(), 0u);
+    }  // closed without saving
+    auto studio = Studio::openProject(dir.path, smallConfig());
+    EXPECT_EQ(studio->redoCount(), 0u);
+    EXPECT_FALSE(studio->redo());
+    EXPECT_EQ(core::canonicalMeshHash(studio->session().view().mesh()), afterUndo);
+    // A save (a snapshot) does not bring it back either.
+    studio->save();
+    studio.reset();
+    studio = Studio::openProject(dir.path, smallConfig());
+    EXPECT_EQ(studio->redoCount(), 0u);
+    EXPECT_EQ(core::canonicalMeshHash(studio->session().view().mesh()), afterUndo);
+}
+
+}  // namespace

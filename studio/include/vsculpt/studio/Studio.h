@@ -152,7 +152,7 @@ class Studio {
     /// lines, for exports (DXF polylines). Pages without a plane use the front plane.
     std::vector<std::vector<core::Vec3>> curvesInObjectSpace() const;
 
-  private:
+    /// One step of the shared undo timeline.
     struct Step {
         bool sketch = false;
         size_t page = 0;
@@ -160,6 +160,11 @@ class Studio {
         bool sculpt() const { return !sketch && surfaceLines == 0; }
         bool operator==(const Step&) const = default;
     };
+    /// The steps done, oldest first, and those that can be redone, the next one last.
+    const std::vector<Step>& timeline() const { return mDone; }
+    const std::vector<Step>& redoTimeline() const { return mUndone; }
+
+  private:
     void noteSketchStep();
     void push(const Step& step);
     /// Runs a session call that may complete sculpt steps (ending a stroke, adding a solid)
@@ -184,12 +189,25 @@ class Studio {
     void noteSculptSteps();
     void loadSketchFile();
     void writeSketchFile() const;
+    /// After a sculpt step, undo or redo: writes the file only where the journal alone would
+    /// not give the timeline back on opening (reconciledTimeline).
+    void writeSketchFileUnlessJournalTellsIt() const;
+    struct ReconciledTimeline {
+        std::vector<Step> done, undone;
+        bool undoneSurfaceLinesKept = true;
+    };
+    /// The timeline a project opens with: the file's lists reconciled with the journal's
+    /// sculpt step counts (done and redo).
+    static ReconciledTimeline reconciledTimeline(std::vector<Step> done, std::vector<Step> undone,
+                                                 size_t sculptDone, size_t sculptUndone);
     void applySketch(const ScriptCommand& c);
     core::Vec3 toObject(size_t page, const glm::dvec2& canvas) const;
 
     std::unique_ptr<Session> mSession;
     studio::SketchDocument mDocument;
     std::vector<Step> mDone, mUndone;
+    // The timeline as sketch.json last had it (written or read).
+    mutable std::vector<Step> mWrittenDone, mWrittenUndone;
     size_t mSculptSteps = 0;  // sculpt steps in mDone == the session's done history
     std::vector<SketchPlane> mPlanes;
     double mClock = 0;  // script pen time when samples give none, s

@@ -1,34 +1,52 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/app/ExportInBackground.h"
 
+#include "vsculpt/core/WorkerPool.h"
 #include "vsculpt/studio/Session.h"
+
+#include <tbb/task_arena.h>
+
+#include <algorithm>
 
 #include <exception>
 #include <utility>
 
 namespace vsculpt::app {
 
+namespace {
+// Below the mesher's helpers (AsyncMesher::kHelperNice, +5): the mesh on show comes first.
+constexpr int kExportNice = 10;
+}  // namespace
+
 ExportInBackground::ExportInBackground(std::unique_ptr<const core::Sculpture> snapshot,
                                        double spacingMm, std::filesystem::path path,
                                        core::ExportOptions options)
     : mPath(std::move(path)) {
-    mThread = std::thread(
-        [this, snapshot = std::move(snapshot), spacingMm, options = std::move(options)]() mutable {
-            try {
-                const core::Mesh mesh = studio::wholeMeshOf(*snapshot, spacingMm);
-                snapshot.reset();  // the copy is not needed while the file is written
-                options.voxelSizeMm = spacingMm;
-                core::exportMesh(mesh, mPath, options);
-                mOutcome = "exported " + mPath.string() + " (" +
-                           std::to_string(mesh.triangleCount()) + " triangles)";
-            } catch (const std::exception& e) {
-                // Errors reach the user as the outcome; a broken invariant is one too here, since
-                // nothing on this thread can be rethrown to the frame loop.
-                mOutcome = "export to " + mPath.string() + " failed: " + e.what();
-                mFailed = true;
-            }
-            mDone.store(true, std::memory_order_release);
-        });
+    mThread = std::thread([this, snapshot = std::move(snapshot), spacingMm,
+                           options = std::move(options)]() mutable {
+        try {
+            // Beside the frame and the mesher, never ahead of them: this thread and helpers
+            // of its own for the other cores run at a lower priority (WorkerPool.h), and
+            // any other oneTBB loop stays on this thread, off the shared workers the frame
+            // may call on.
+            core::lowerThisThreadsPriority(kExportNice);
+            core::WorkerPool workers(std::max(1, int(std::thread::hardware_concurrency())) - 1, 0);
+            core::Mesh mesh;
+            tbb::task_arena(1).execute(
+                [&] { mesh = studio::wholeMeshOf(*snapshot, spacingMm, &workers); });
+            snapshot.reset();  // the copy is not needed while the file is written
+            options.voxelSizeMm = spacingMm;
+            core::exportMesh(mesh, mPath, options);
+            mOutcome = "exported " + mPath.string() + " (" + std::to_string(mesh.triangleCount()) +
+                       " triangles)";
+        } catch (const std::exception& e) {
+            // Errors reach the user as the outcome; a broken invariant is one too here, since
+            // nothing on this thread can be rethrown to the frame loop.
+            mOutcome = "export to " + mPath.string() + " failed: " + e.what();
+            mFailed = true;
+        }
+        mDone.store(true, std::memory_order_release);
+    });
 }
 
 ExportInBackground::~ExportInBackground() {

@@ -21,9 +21,9 @@ namespace {
 
 thread_local bool tInsideBody = false;
 
-/// Lowers the calling thread's priority by `niceIncrement` nice steps (Linux: nice is per
-/// thread). Always allowed: only raising priority needs privileges.
-bool lowerPriority(int niceIncrement) {
+}  // namespace
+
+bool lowerThisThreadsPriority(int niceIncrement) {
 #if defined(__linux__)
     const id_t tid = id_t(gettid());
     errno = 0;
@@ -35,8 +35,6 @@ bool lowerPriority(int niceIncrement) {
     return false;
 #endif
 }
-
-}  // namespace
 
 WorkerPool::WorkerPool(int helpers, int niceIncrement)
     : mLowered(niceIncrement > 0 && helpers > 0) {
@@ -58,7 +56,7 @@ WorkerPool::~WorkerPool() {
 }
 
 void WorkerPool::helperLoop(int niceIncrement) {
-    const bool lowered = niceIncrement > 0 && lowerPriority(niceIncrement);
+    const bool lowered = niceIncrement > 0 && lowerThisThreadsPriority(niceIncrement);
     uint64_t seen = 0;
     std::unique_lock lock(mMutex);
     if (!lowered) mLowered = false;

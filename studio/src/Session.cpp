@@ -503,7 +503,7 @@ Mesh Session::wholeMesh(double spacing) const {
     return wholeMeshOf(*mSculpture, spacing);
 }
 
-Mesh wholeMeshOf(const Sculpture& sculpture, double spacing) {
+Mesh wholeMeshOf(const Sculpture& sculpture, double spacing, WorkerPool* workers) {
     constexpr int kWholeMeshMaxCells = Session::kWholeMeshMaxCells;
     if (spacing == 0) spacing = zoomSpacing(sculpture.config(), sculpture.levels(), 1);
     if (!std::isfinite(spacing) || spacing <= 0)
@@ -540,6 +540,7 @@ Mesh wholeMeshOf(const Sculpture& sculpture, double spacing) {
                            " per axis: choose a coarser spacing");
     r.n = int(n);
     Polygonizer poly(sculpture, r, sculpture.config().polygonizer.rootTolerance);
+    poly.useWorkers(workers);
     poly.rebuildAll();
     return poly.mesh();
 }

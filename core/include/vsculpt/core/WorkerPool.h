@@ -31,6 +31,12 @@
 
 namespace vsculpt::core {
 
+/// Lowers the calling thread's priority by `niceIncrement` nice steps (Linux: nice is per
+/// thread; capped at nice 19). Threads it creates afterwards start at the lowered priority.
+/// Always allowed (only raising priority needs privileges); false where the system refuses or
+/// is not Linux.
+bool lowerThisThreadsPriority(int niceIncrement);
+
 class WorkerPool {
   public:
     /// Body of a parallel loop: processes indices [begin, end).

@@ -231,9 +231,10 @@ class Session {
 
 /// The whole of `sculpture` polygonized at `spacingMm` (0: its zoom-1 spacing) to its
 /// config's export root tolerance, for exports and statistics; reads nothing but `sculpture`
-/// (an export thread runs it on a snapshot, Sculpture::clone). Throws SessionError for a
-/// spacing that is not finite and positive, or when the grid would exceed
-/// Session::kWholeMeshMaxCells per axis.
-core::Mesh wholeMeshOf(const core::Sculpture& sculpture, double spacingMm = 0);
+/// (an export thread runs it on a snapshot, Sculpture::clone), its parallel loops on
+/// `workers` when given (oneTBB otherwise). Throws SessionError for a spacing that is not
+/// finite and positive, or when the grid would exceed Session::kWholeMeshMaxCells per axis.
+core::Mesh wholeMeshOf(const core::Sculpture& sculpture, double spacingMm = 0,
+                       core::WorkerPool* workers = nullptr);
 
 }  // namespace vsculpt::studio

@@ -7,6 +7,8 @@
 #include "vsculpt/core/ExportMesh.h"
 #include "vsculpt/core/Zoom.h"
 
+#include "../TestFixtures.h"
+
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <gtest/gtest.h>
@@ -22,10 +24,7 @@ using core::Vec3;
 namespace {
 
 core::SculptConfig smallSphere() {
-    core::SculptConfig cfg;
-    cfg.sphereRadiusMm = 25;
-    cfg.polygonizer.gridN = 32;
-    return cfg;
+    return test::smallConfig(25);
 }
 
 struct Loaded {
@@ -57,10 +56,8 @@ core::Aabb bounds(const core::Mesh& m) {
 }
 
 struct ExportInBackground : ::testing::Test {
-    std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                                ("vsculpt-bg-export-" + std::to_string(::getpid()));
-    void SetUp() override { std::filesystem::create_directories(dir); }
-    void TearDown() override { std::filesystem::remove_all(dir); }
+    test::TempDir temp;
+    const std::filesystem::path& dir = temp.path;
 };
 
 }  // namespace

@@ -15,7 +15,9 @@ namespace vsculpt::app {
 using namespace vsculpt::core;
 using studio::Session;
 
-std::string exportDetailWarning(const Session& session, double spacing) {
+ExportDetail exportDetail(const Session& session, double zoom1Mm) {
+    ExportDetail out;
+    out.keepingMm = zoom1Mm;
     int finest = kLevelCount + 1;
     for (const StrokeRecord& r : session.history().done()) {
         if (!r.solid)
@@ -25,12 +27,11 @@ std::string exportDetailWarning(const Session& session, double spacing) {
                 finest = std::min(finest, c.level);
     }
     const SculptConfig& cfg = session.sculpture().config();
-    int zoom = 0;
-    for (int z = 1; z <= kZoomLevels && finest <= kLevelCount && zoom == 0; ++z)
-        if (toolAllowedAtZoom(cfg, z, finest)) zoom = z;
-    if (zoom == 0) return {};
-    const double detail = zoomSpacing(cfg, session.sculpture().levels(), zoom);
-    if (spacing <= detail * (1 + 1e-9)) return {};
+    for (int z = 1; z <= kZoomLevels && finest <= kLevelCount && out.zoom == 0; ++z)
+        if (toolAllowedAtZoom(cfg, z, finest)) out.zoom = z;
+    if (out.zoom == 0) return out;
+    out.finestSize = finest;
+    out.detailMm = zoomSpacing(cfg, session.sculpture().levels(), out.zoom);
     const Aabb bounds = session.sculpture().supportBounds();
     double extent = 0;
     for (int a = 0; a < 3; ++a)
@@ -38,12 +39,19 @@ std::string exportDetailWarning(const Session& session, double spacing) {
     // The finest spacing Session::wholeMesh takes: its grid adds a cell or two each side and
     // rounds its size up to a multiple of 16, so 24 cells are left for those.
     const double finestFit = extent / (Session::kWholeMeshMaxCells - 24);
-    const bool capped = finestFit > detail;
+    out.capped = finestFit > out.detailMm;
+    out.keepingMm = std::max(out.detailMm, finestFit);
+    return out;
+}
+
+std::string exportDetailWarning(const Session& session, double spacing) {
+    const ExportDetail d = exportDetail(session, spacing);
+    if (d.zoom == 0 || spacing <= d.detailMm * (1 + 1e-9)) return {};
     // Three significant digits, rounded so that the printed spacing does what the sentence
     // says: down to keep the detail, up to fit the grid.
-    const double unit = std::pow(10.0, std::floor(std::log10(capped ? finestFit : detail)) - 2);
+    const double unit = std::pow(10.0, std::floor(std::log10(d.keepingMm)) - 2);
     const double suggest =
-        capped ? std::ceil(finestFit / unit) * unit : std::floor(detail / unit) * unit;
+        d.capped ? std::ceil(d.keepingMm / unit) * unit : std::floor(d.keepingMm / unit) * unit;
     if (spacing <= suggest * (1 + 1e-9)) return {};
     char capNote[80];
     std::snprintf(capNote, sizeof capNote, "as much of it as the grid's %d cells per axis allow",
@@ -53,7 +61,7 @@ std::string exportDetailWarning(const Session& session, double spacing) {
                   "the export's grid spacing, %.3g mm, is coarser than the sculpture's finest "
                   "detail (size %d, drawn at zoom %d at %.3g mm), which it loses: "
                   "--export-spacing %.3g keeps %s",
-                  spacing, finest, zoom, detail, suggest, capped ? capNote : "it");
+                  spacing, d.finestSize, d.zoom, d.detailMm, suggest, d.capped ? capNote : "it");
     return text;
 }
 

@@ -385,15 +385,24 @@ std::string Rig::exportTo(const std::filesystem::path& path, const core::ExportO
     if (!path.parent_path().empty()) std::filesystem::create_directories(path.parent_path());
     core::ensureWritable(path);
     const Session& s = mStudio->session();
-    const double spacing = core::zoomSpacing(mConfig, s.sculpture().levels(), 1);
+    // The spacing that keeps the finest detail sculpted (the export runs beside the frame,
+    // so a finer grid costs the sculptor nothing but the wait for the file).
+    const ExportDetail detail =
+        exportDetail(s, core::zoomSpacing(mConfig, s.sculpture().levels(), 1));
+    const double spacing = detail.keepingMm;
     mExport = std::make_unique<ExportInBackground>(s.sculpture().clone(), spacing, path, options);
-    char said[64];
-    std::snprintf(said, sizeof said, " at %.3g mm", spacing);
-    std::string text = "exporting " + path.string() + said + "...";
-    // The window has no spacing to choose: it says what the export loses, for play to redo.
-    if (const std::string lost = exportDetailWarning(s, spacing); !lost.empty())
-        text += "; " + lost;
-    return text;
+    char said[200];
+    if (detail.finestSize == 0)
+        std::snprintf(said, sizeof said, " at %.3g mm...", spacing);
+    else if (!detail.capped)
+        std::snprintf(said, sizeof said, " at %.3g mm (the size-%d detail's spacing)...", spacing,
+                      detail.finestSize);
+    else
+        std::snprintf(said, sizeof said,
+                      " at %.3g mm, the finest its grid's %d cells per axis allow: coarser than "
+                      "the size-%d detail's %.3g mm, which it loses...",
+                      spacing, Session::kWholeMeshMaxCells, detail.finestSize, detail.detailMm);
+    return "exporting " + path.string() + said;
 }
 
 std::optional<std::string> Rig::pollExport(bool wait) {

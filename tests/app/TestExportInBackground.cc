@@ -132,3 +132,24 @@ TEST_F(ExportInBackground, ClosingWaitsForTheFile) {
     ASSERT_TRUE(std::filesystem::exists(path));
     EXPECT_EQ(load(path).faces, triangles);
 }
+
+TEST_F(ExportInBackground, TheWindowsExportKeepsTheFinestDetailSculpted) {
+    app::Rig rig(smallSphere(), app::RigOptions{});
+    studio::Studio& studio = rig.studio();
+    const core::SculptConfig& cfg = rig.session().sculpture().config();
+    const double zoom1 = core::zoomSpacing(cfg, rig.session().sculpture().levels(), 1),
+                 zoom3 = core::zoomSpacing(cfg, rig.session().sculpture().levels(), 3);
+    // A size-3 groove (offered from zoom 3 on): at zoom 1's spacing it would be lost.
+    studio.setZoom(3, Vec3(0, 0, 25));
+    studio.setSize(3);
+    studio.setTool(studio::ToolKind::Carve);
+    studio.stroke({Vec3(-6, 0, 25), Vec3(6, 0, 25)}, false);
+    const std::filesystem::path path = dir / "detail.stl";
+    const std::string said = rig.exportTo(path);
+    EXPECT_NE(said.find("(the size-3 detail's spacing)"), std::string::npos) << said;
+    ASSERT_TRUE(rig.pollExport(true));
+    const size_t atZoom3 = rig.session().wholeMesh(zoom3).triangleCount(),
+                 atZoom1 = rig.session().wholeMesh(zoom1).triangleCount();
+    EXPECT_EQ(load(path).faces, atZoom3);
+    EXPECT_GT(atZoom3, 4 * atZoom1);  // a finer grid indeed: 4x the triangles per halving
+}

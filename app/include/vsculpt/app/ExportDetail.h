@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file ExportDetail.h
-/// @brief Whether a whole-sculpture export at a given grid spacing loses the sculpture's finest
-/// detail, said in words for the user (play's warning, the window's status line).
+/// @brief The grid spacing a whole-sculpture export needs to keep the sculpture's finest
+/// detail, and whether a given spacing loses it, said in words for the user (play's warning,
+/// the window's status line).
 #pragma once
 
 #include <string>
@@ -12,11 +13,23 @@ class Session;
 
 namespace vsculpt::app {
 
-/// When an export at `spacingMm` cannot hold the session's finest detail: a sentence saying so
-/// and which --export-spacing would keep it; empty otherwise. The finest detail is the
+/// The finest detail of a session and the spacing that keeps it. The finest detail is the
 /// smallest tool size among the strokes that built the sculpture (a sketched solid's: its
-/// finest skeleton level), drawn from the coarsest zoom that offers that size; the suggestion
-/// is that zoom's spacing, or the finest the whole-sculpture grid allows (1 024 cells per axis).
+/// finest skeleton level), drawn from the coarsest zoom that offers that size.
+struct ExportDetail {
+    int finestSize = 0;    ///< 0: nothing finer than the initial sphere was made
+    int zoom = 0;          ///< the coarsest zoom that offers finestSize
+    double detailMm = 0;   ///< that zoom's grid spacing
+    double keepingMm = 0;  ///< detailMm, or the finest the whole-sculpture grid allows
+    bool capped = false;   ///< keepingMm is the grid's limit, coarser than detailMm
+};
+/// @param zoom1Mm the zoom-1 spacing: keepingMm when nothing finer was made.
+ExportDetail exportDetail(const studio::Session& session, double zoom1Mm);
+
+/// When an export at `spacingMm` cannot hold the session's finest detail: a sentence saying so
+/// and which --export-spacing would keep it; empty otherwise. The suggestion is
+/// exportDetail's keepingMm rounded to three digits (down to keep the detail, up to fit the
+/// grid's 1 024 cells per axis).
 std::string exportDetailWarning(const studio::Session& session, double spacingMm);
 
 }  // namespace vsculpt::app

@@ -10,6 +10,7 @@
 #include "vsculpt/core/History.h"
 #include "vsculpt/core/PlaceStroke.h"
 #include "vsculpt/core/Polygonizer.h"
+#include "vsculpt/core/Project.h"
 #include "vsculpt/core/Sculpture.h"
 #include "vsculpt/core/ToolLevels.h"
 #include "vsculpt/studio/Session.h"
@@ -918,6 +919,39 @@ void BM_ExportRequest(benchmark::State& state) {
     state.counters["triangles"] = double(triangles);
     state.counters["skeletons"] = double(s.counts().total());
 }
+/// What a save (F5, and a window's close) costs the frame thread: saveProject on the same
+/// models with their whole undo history (a new project folder each time, then one that
+/// already has a snapshot, as a second save finds it).
+void BM_SaveRequest(benchmark::State& state) {
+    DenseModel& model = denseModel(size_t(state.range(0)));
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("vsculpt-bench-save-" + std::to_string(::getpid()));
+    std::vector<double> firstMs, againMs;
+    size_t bytes = 0;
+    for (auto _ : state) {
+        std::filesystem::remove_all(dir);
+        std::filesystem::create_directories(dir);
+        JournalWriter journal(journalPath(dir), 0);
+        for (std::vector<double>* into : {&firstMs, &againMs}) {
+            const auto t0 = Clock::now();
+            saveProject(dir, "{}", 1, *model.sculpture, model.history, journal);
+            into->push_back(msSince(t0, Clock::now()));
+        }
+        bytes = std::filesystem::file_size(snapshotPath(dir));
+    }
+    std::filesystem::remove_all(dir);
+    state.counters["first_save_ms"] = quantile(firstMs, 0.5);
+    state.counters["save_ms"] = quantile(againMs, 0.5);
+    state.counters["snapshot_MB"] = double(bytes) / 1e6;
+    state.counters["skeletons"] = double(model.sculpture->counts().total());
+}
+BENCHMARK(BM_SaveRequest)
+    ->ArgName("skeletons")
+    ->Arg(10000)
+    ->Arg(100000)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+
 BENCHMARK(BM_ExportRequest)
     ->ArgName("skeletons")
     ->Arg(10000)

@@ -69,6 +69,18 @@ CLI::Validator numberIn(double lo, double hi, const std::string& unit, bool loOp
         range);
 }
 
+// `word` itself, or what `other` accepts.
+CLI::Validator orWord(const std::string& word, CLI::Validator other) {
+    const std::string description = other.get_description() + " or " + word;
+    return CLI::Validator(
+        [word, other](std::string& value) mutable -> std::string {
+            if (value == word) return "";
+            const std::string why = other(value);
+            return why.empty() ? why : why + " (or " + word + ")";
+        },
+        description);
+}
+
 }  // namespace
 
 int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
@@ -158,10 +170,16 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
                         "Project folder: opened (and recovered) if it exists, created otherwise; "
                         "every edit is journaled");
     playCmd
-        ->add_option("--export-spacing", play.exportSpacingMm,
-                     "Grid spacing in mm for exports and statistics (default: zoom 1's; an export "
-                     "that loses finer detail says which spacing keeps it)")
-        ->check(numberIn(0, 1000, "mm", /*loOpen=*/true));
+        ->add_option_function<std::string>(
+            "--export-spacing",
+            [&play](const std::string& v) {
+                play.exportSpacingMm =
+                    v == "detail" ? PlayOptions::kExportSpacingDetail : std::stod(v);
+            },
+            "Grid spacing in mm for exports and statistics, or 'detail': the spacing that keeps "
+            "the finest detail sculpted, as the windows' export takes it (default: zoom 1's; "
+            "an export that loses finer detail says which spacing keeps it)")
+        ->check(orWord("detail", numberIn(0, 1000, "mm", /*loOpen=*/true)));
     playCmd->add_flag("!--no-progress", play.progress, "No progress bar");
     playCmd->add_option("--shot", play.shotPath,
                         "Render the final frame with OpenGL to a PNG (needs a display; "

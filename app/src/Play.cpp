@@ -302,12 +302,20 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
             studio.save();
             spdlog::debug("saved {}", o.projectDir);
         }
-        const double spacing = o.exportSpacingMm > 0
-                                   ? o.exportSpacingMm
-                                   : zoomSpacing(cfg, session->sculpture().levels(), 1);
-        if (o.exportSpacingMm <= 0 && !o.outputs.empty())
+        const double zoom1 = zoomSpacing(cfg, session->sculpture().levels(), 1);
+        double spacing = o.exportSpacingMm > 0 ? o.exportSpacingMm : zoom1;
+        if (o.exportSpacingMm == PlayOptions::kExportSpacingDetail) {
+            const ExportDetail d = exportDetail(*session, zoom1);
+            spacing = d.keepingMm;
+            if (d.capped)
+                spdlog::warn(
+                    "the sculpture's finest detail (size {}, {:.3g} mm) needs a finer "
+                    "grid than its {} cells per axis allow: meshing at {:.3g} mm",
+                    d.finestSize, d.detailMm, Session::kWholeMeshMaxCells, spacing);
+        } else if (o.exportSpacingMm <= 0 && !o.outputs.empty()) {
             if (const std::string w = exportDetailWarning(*session, spacing); !w.empty())
                 spdlog::warn("{}", w);
+        }
         const auto meshStart = std::chrono::steady_clock::now();
         const Mesh mesh = session->wholeMesh(spacing);
         spdlog::debug("meshed the whole sculpture at {:.3g} mm in {}", spacing,

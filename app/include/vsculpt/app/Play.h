@@ -19,8 +19,11 @@ struct PlayOptions {
     int threads = 0;                   ///< 0 = all cores
     std::string configPath;            ///< "" = configs/sculpt.json
     std::string projectDir;            ///< "" = no project
-    double exportSpacingMm = 0;        ///< grid spacing of exports and stats (0 = zoom 1's)
-    bool progress = true;              ///< progress bar on a terminal
+    /// Grid spacing of exports and stats (0 = zoom 1's, kExportSpacingDetail = the spacing
+    /// that keeps the finest detail, app::exportDetail).
+    double exportSpacingMm = 0;
+    static constexpr double kExportSpacingDetail = -1;
+    bool progress = true;  ///< progress bar on a terminal
     Verbosity verbosity = Verbosity::Normal;
     std::string shotPath;              ///< PNG of the final frame ("" = none)
     std::string stereo = "mono";       ///< mono, sbs or anaglyph

@@ -272,14 +272,30 @@ std::string Rig::projectSummary() const {
 }
 
 std::string Rig::save() {
-    if (!mStudio->session().projectDir()) return "nothing saved: no project";
-    mStudio->save();
-    return "saved " + mStudio->session().projectDir()->string();
+    if (!mStudio->saveInBackground()) return "nothing saved: no project";
+    return "saving " + mStudio->session().projectDir()->string() + "...";
+}
+
+std::optional<std::string> Rig::pollSave(bool wait) {
+    bool failed = false;
+    std::optional<std::string> outcome = mStudio->pollSave(wait, &failed);
+    // A failed save leaves every edit in the journal: a warning, not an error.
+    if (outcome && failed)
+        spdlog::warn("{}", *outcome);
+    else if (outcome)
+        spdlog::info("{}", *outcome);
+    return outcome;
+}
+
+std::optional<std::string> Rig::pollBackgroundWork(bool wait) {
+    std::optional<std::string> saved = pollSave(wait), exported = pollExport(wait);
+    if (saved && exported) return *saved + "; " + *exported;
+    return saved ? saved : exported;
 }
 
 void Rig::close() {
-    // An export asked for is written before the window goes.
-    pollExport(true);
+    // An export or save asked for is written before the window goes.
+    pollBackgroundWork(true);
     mStudio->endStroke();
     if (!mStudio->session().hasJournaledEdits()) return;
     try {

@@ -452,7 +452,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
                 continue;
             }
         }
-        if (auto exported = rig->pollExport()) message = *exported;
+        if (auto exported = rig->pollBackgroundWork()) message = *exported;
         if (devices) {
             rig->pumpDevices();
             // The whole tablet maps onto the canvas; its pen draws with pressure.

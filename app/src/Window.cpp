@@ -329,7 +329,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
             if (switched) continue;
         }
         rig->pumpDevices();
-        if (auto exported = rig->pollExport()) message = *exported;
+        if (auto exported = rig->pollBackgroundWork()) message = *exported;
         worldFromObject = worldFromObjectMatrix();
         // A tracker pen, when one reports, places the tool; the pointer does otherwise.
         DeviceInput* devices = rig->devices();
@@ -407,7 +407,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
     }
     // Closing ends the stroke in flight (journaled like any other) and snapshots the project.
     // The status line's last word on an export still being written is how it ended.
-    if (auto exported = rig->pollExport(true)) message = *exported;
+    if (auto exported = rig->pollBackgroundWork(true)) message = *exported;
     rig->close();
     if (o.report) {
         WindowOptions::Report& r = *o.report;

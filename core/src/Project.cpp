@@ -13,6 +13,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <sstream>
 
 namespace vsculpt::core {
@@ -539,7 +540,8 @@ JournalContents readJournal(const fs::path& path) {
 }
 
 JournalWriter::JournalWriter(const fs::path& path, uint64_t validBytes) : mPath(path) {
-    mFd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
+    // Read too: reset(keepFrom) copies the records appended while a snapshot was written.
+    mFd = ::open(path.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
     if (mFd < 0)
         throw ProjectError(path.string() + ": cannot open for writing: " + errnoText(errno));
     try {
@@ -604,13 +606,47 @@ void JournalWriter::append(const JournalRecord& rec) {
     mLastSequence = rec.sequence;
 }
 
+uint64_t JournalWriter::bytes() const {
+    if (mFd < 0) return 0;
+    const off_t end = ::lseek(mFd, 0, SEEK_CUR);
+    return end < 0 ? 0 : uint64_t(end);
+}
+
 void JournalWriter::reset() {
+    reset(std::numeric_limits<uint64_t>::max());
+}
+
+void JournalWriter::reset(uint64_t keepFrom) {
+    std::string bytes = journalHeader();
+    if (keepFrom != std::numeric_limits<uint64_t>::max()) {
+        if (mFd < 0)
+            throw ProjectError(mPath.string() +
+                               ": the journal was closed by an earlier failure; not restarted");
+        const uint64_t end = this->bytes();
+        if (keepFrom < kMagicBytes || keepFrom > end)
+            throw std::logic_error("JournalWriter::reset: keeping from byte " +
+                                   std::to_string(keepFrom) + " of a " + std::to_string(end) +
+                                   "-byte journal");
+        // Whole records: keepFrom was bytes() between two appends.
+        const size_t header = bytes.size();
+        bytes.resize(header + size_t(end - keepFrom));
+        size_t done = 0;
+        while (done < end - keepFrom) {
+            const ssize_t n = ::pread(mFd, bytes.data() + header + done, end - keepFrom - done,
+                                      off_t(keepFrom + done));
+            if (n < 0 && errno == EINTR) continue;
+            if (n <= 0)
+                throw ProjectError(mPath.string() + ": cannot read back its last records: " +
+                                   (n < 0 ? errnoText(errno) : std::string("file shrank")));
+            done += size_t(n);
+        }
+    }
     try {
-        writeFileAtomically(mPath, journalHeader(), true);
+        writeFileAtomically(mPath, bytes, true);
     } catch (const FileWriteError& e) {
         throw ProjectError(e.what());
     }
-    const int fd = ::open(mPath.c_str(), O_WRONLY | O_NOFOLLOW | O_CLOEXEC);
+    const int fd = ::open(mPath.c_str(), O_RDWR | O_NOFOLLOW | O_CLOEXEC);
     const int err = errno;
     if (mFd >= 0) ::close(mFd);
     // Never left on the old file: it may now be journal.vjl.bak.
@@ -788,12 +824,10 @@ RecoveredProject readProject(const fs::path& dir) {
     return out;
 }
 
-void saveProject(const fs::path& dir, const std::string& configJson, uint64_t lastSequence,
-                 const Sculpture& sculpture, const History& history, JournalWriter& journal) {
+void writeProjectSnapshot(const fs::path& dir, const std::string& configJson,
+                          uint64_t lastSequence, const Sculpture& sculpture,
+                          const History& history) {
     const fs::path snap = snapshotPath(dir), journalFile = journalPath(dir);
-    if (journal.path() != journalFile)
-        throw std::invalid_argument("saveProject: the journal writer writes " +
-                                    journal.path().string() + ", not " + journalFile.string());
     // Every check before the first file changes.
     const std::string bytes = encodeSnapshot(snap, configJson, lastSequence, sculpture, history);
     std::error_code ec;
@@ -809,7 +843,8 @@ void saveProject(const fs::path& dir, const std::string& configJson, uint64_t la
     try {
         if (currentReadable) {
             // Backups first, and on disk before the snapshot changes: at every moment the
-            // folder holds either the old pair or the old pair plus its backups.
+            // folder holds either the old pair or the old pair plus its backups. (The journal
+            // may be growing meanwhile, a background save: its backup is the same file.)
             keepAs(snap, snapshotBackupPath(dir));
             if (fs::exists(journalFile, ec))
                 keepAs(journalFile, journalBackupPath(dir));
@@ -818,7 +853,8 @@ void saveProject(const fs::path& dir, const std::string& configJson, uint64_t la
             syncFolder(dir);
             writeFileAtomically(snap, bytes, true);
         } else {
-            // The new snapshot is also its own backup, so both journals can start empty.
+            // The new snapshot is also its own backup, so the backup's journal can start
+            // empty (journal.vjl's records after lastSequence continue either).
             writeFileAtomically(snap, bytes, true);
             writeFileAtomically(snapshotBackupPath(dir), bytes, false);
             writeFileAtomically(journalBackupPath(dir), journalHeader(), false);
@@ -827,6 +863,15 @@ void saveProject(const fs::path& dir, const std::string& configJson, uint64_t la
     } catch (const FileWriteError& e) {
         throw ProjectError(e.what());
     }
+}
+
+void saveProject(const fs::path& dir, const std::string& configJson, uint64_t lastSequence,
+                 const Sculpture& sculpture, const History& history, JournalWriter& journal) {
+    if (journal.path() != journalPath(dir))
+        throw std::invalid_argument("saveProject: the journal writer writes " +
+                                    journal.path().string() + ", not " +
+                                    journalPath(dir).string());
+    writeProjectSnapshot(dir, configJson, lastSequence, sculpture, history);
     journal.reset();
 }
 

@@ -309,6 +309,13 @@ void Studio::save() {
     writeSketchFile();
 }
 
+bool Studio::saveInBackground() {
+    endStroke();
+    if (!mSession->saveInBackground()) return false;
+    writeSketchFile();
+    return true;
+}
+
 void Studio::noteSketchStep() {
     push(Step{true, mDocument.currentIndex()});
     writeSketchFile();

@@ -926,7 +926,7 @@ void BM_SaveRequest(benchmark::State& state) {
     DenseModel& model = denseModel(size_t(state.range(0)));
     const auto dir = std::filesystem::temp_directory_path() /
                      ("vsculpt-bench-save-" + std::to_string(::getpid()));
-    std::vector<double> firstMs, againMs;
+    std::vector<double> firstMs, againMs, cloneMs, historyMs;
     size_t bytes = 0;
     for (auto _ : state) {
         std::filesystem::remove_all(dir);
@@ -938,11 +938,22 @@ void BM_SaveRequest(benchmark::State& state) {
             into->push_back(msSince(t0, Clock::now()));
         }
         bytes = std::filesystem::file_size(snapshotPath(dir));
+        const auto c0 = Clock::now();
+        std::unique_ptr<Sculpture> copy = model.sculpture->clone();
+        const auto c1 = Clock::now();
+        History historyCopy = model.history;
+        const auto c2 = Clock::now();
+        benchmark::DoNotOptimize(copy);
+        benchmark::DoNotOptimize(historyCopy);
+        cloneMs.push_back(msSince(c0, c1));
+        historyMs.push_back(msSince(c1, c2));
     }
     std::filesystem::remove_all(dir);
     state.counters["first_save_ms"] = quantile(firstMs, 0.5);
     state.counters["save_ms"] = quantile(againMs, 0.5);
     state.counters["snapshot_MB"] = double(bytes) / 1e6;
+    state.counters["clone_ms"] = quantile(cloneMs, 0.5);
+    state.counters["history_copy_ms"] = quantile(historyMs, 0.5);
     state.counters["skeletons"] = double(model.sculpture->counts().total());
 }
 BENCHMARK(BM_SaveRequest)

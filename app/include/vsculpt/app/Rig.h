@@ -107,8 +107,17 @@ class Rig {
     /// A line for the user about the project: where it is, what was recovered.
     std::string projectSummary() const;
 
-    /// Save: a snapshot of the project (nothing to do without one). Returns what it did.
+    /// Save: a snapshot of the project (nothing to do without one), written on a thread of its
+    /// own (Studio::saveInBackground) while the frame goes on; pollSave() says when it is done.
+    /// Returns what was started, for the user. Throws studio::SessionError for a read-only
+    /// project or while an earlier save is still being written.
     std::string save();
+    /// What the save in flight did, once it is done ("saved DIR", or why not: the journal
+    /// keeps every edit); nothing while it runs or without one; `wait` waits. Also logged.
+    std::optional<std::string> pollSave(bool wait = false);
+    /// pollSave() and pollExport() together (what the windows call every frame): the outcomes
+    /// done, joined by "; ".
+    std::optional<std::string> pollBackgroundWork(bool wait = false);
     /// What a window does as it closes: ends the stroke in flight (journaled like any other)
     /// and, when the journal holds edits the snapshot does not, writes a snapshot, so the
     /// next start reads the clay as it was instead of replaying every stroke (through the

@@ -98,6 +98,13 @@ class JournalWriter {
     /// for the old one (saveProject's journal.vjl.bak) keeps its records. After a failure the
     /// writer may be closed: append() then throws.
     void reset();
+    /// The same, but the new journal starts with this one's records from byte `keepFrom` on
+    /// (a bytes() taken between appends): the edits appended while a snapshot of the earlier
+    /// ones was written in the background (writeProjectSnapshot). Throws std::logic_error for
+    /// an offset outside the records, ProjectError as reset().
+    void reset(uint64_t keepFrom);
+    /// The journal's length so far: where the next record goes.
+    uint64_t bytes() const;
     const std::filesystem::path& path() const { return mPath; }
 
   private:
@@ -184,6 +191,16 @@ RecoveredProject readProject(const std::filesystem::path& dir);
 void saveProject(const std::filesystem::path& dir, const std::string& configJson,
                  uint64_t lastSequence, const Sculpture& sculpture, const History& history,
                  JournalWriter& journal);
+/// The part of saveProject that may run beside further edits (a background save, on a copy
+/// of the sculpture and history): rotates the backups and writes the snapshot, and leaves
+/// journal.vjl as it is, records still being appended to it. At every moment the folder reads
+/// back (readProject) as every edit journaled: a reader skips the journal's records the
+/// snapshot holds. Finish with JournalWriter::reset(keepFrom), keepFrom being the journal's
+/// bytes() when `lastSequence` was its last record, so the new journal holds the edits made
+/// meanwhile. Throws ProjectError as saveProject.
+void writeProjectSnapshot(const std::filesystem::path& dir, const std::string& configJson,
+                          uint64_t lastSequence, const Sculpture& sculpture,
+                          const History& history);
 
 /// Puts a snapshot's skeletons into `sculpture` (built from the snapshot's config, empty of
 /// lattice skeletons) and its undo/redo stacks into `history`.

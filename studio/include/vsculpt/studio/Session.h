@@ -115,6 +115,20 @@ class Session {
     /// Writes a snapshot and starts a new journal, keeping the previous pair as a backup
     /// (projects only; no-op otherwise). Throws SessionError for a read-only project.
     void save();
+    /// Saves as save() does, without the caller waiting for the file (F5 in the windows): the
+    /// snapshot holds the clay and history as they are now (copies: Sculpture::clone), written
+    /// on a thread of its own while editing goes on, every edit journaled as always. pollSave()
+    /// finishes it. Returns false without a project (nothing to save). Throws SessionError for
+    /// a read-only project or while an earlier background save is still being written.
+    bool saveInBackground();
+    /// Finishes a background save once its snapshot is written: the journal restarts holding
+    /// the edits made meanwhile. Returns what happened, for the user: "saved DIR", or why it
+    /// failed (the journal keeps every edit either way); nothing while the file is being written
+    /// or when no save was started. `wait` waits for it; `failed` tells whether it failed (or
+    /// the journal did not restart). save() and the destructor wait too.
+    std::optional<std::string> pollSave(bool wait = false, bool* failed = nullptr);
+    /// A background save is under way (its outcome not yet taken by pollSave).
+    bool saving() const { return mSaving != nullptr; }
     bool readOnly() const { return mReadOnly; }
     /// A writable project whose journal holds edits its snapshot does not: what the windows
     /// save when they close, so that reopening reads a snapshot instead of replaying every
@@ -225,6 +239,8 @@ class Session {
     bool mReadOnly = false;
     uint64_t mSequence = 0;
     uint64_t mSnapshotSequence = 0;  // the last edit the project's snapshot holds
+    struct BackgroundSave;
+    std::unique_ptr<BackgroundSave> mSaving;  // saveInBackground's, until pollSave takes it
     std::string mRecoveryWarning;
     size_t mRecovered = 0;
 };

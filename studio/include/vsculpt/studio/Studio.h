@@ -134,6 +134,12 @@ class Studio {
     size_t redoCount() const { return mUndone.size(); }
     /// Writes a snapshot of the sculpture and `sketch.json` (projects only).
     void save();
+    /// The same without waiting for the snapshot (Session::saveInBackground; `sketch.json`,
+    /// small, is written at once). Returns false without a project; pollSave() finishes it.
+    bool saveInBackground();
+    std::optional<std::string> pollSave(bool wait = false, bool* failed = nullptr) {
+        return mSession->pollSave(wait, failed);
+    }
 
     SketchPlane plane(size_t pageIndex) const;
     void setPlane(size_t pageIndex, SketchPlane plane);

@@ -824,9 +824,8 @@ RecoveredProject readProject(const fs::path& dir) {
     return out;
 }
 
-void writeProjectSnapshot(const fs::path& dir, const std::string& configJson,
-                          uint64_t lastSequence, const Sculpture& sculpture,
-                          const History& history) {
+void writeProjectSnapshot(const fs::path& dir, const std::string& configJson, uint64_t lastSequence,
+                          const Sculpture& sculpture, const History& history) {
     const fs::path snap = snapshotPath(dir), journalFile = journalPath(dir);
     // Every check before the first file changes.
     const std::string bytes = encodeSnapshot(snap, configJson, lastSequence, sculpture, history);
@@ -869,8 +868,7 @@ void saveProject(const fs::path& dir, const std::string& configJson, uint64_t la
                  const Sculpture& sculpture, const History& history, JournalWriter& journal) {
     if (journal.path() != journalPath(dir))
         throw std::invalid_argument("saveProject: the journal writer writes " +
-                                    journal.path().string() + ", not " +
-                                    journalPath(dir).string());
+                                    journal.path().string() + ", not " + journalPath(dir).string());
     writeProjectSnapshot(dir, configJson, lastSequence, sculpture, history);
     journal.reset();
 }

@@ -5,8 +5,8 @@
 #include "vsculpt/core/PlaceStroke.h"
 #include "vsculpt/core/WorkerPool.h"
 
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
+#include <nlohmann/json.hpp>
 
 #include <atomic>
 #include <chrono>
@@ -554,8 +554,7 @@ bool Session::saveInBackground() {
 }
 
 std::optional<std::string> Session::pollSave(bool wait, bool* failed) {
-    if (!mSaving || (!wait && !mSaving->done.load(std::memory_order_acquire)))
-        return std::nullopt;
+    if (!mSaving || (!wait && !mSaving->done.load(std::memory_order_acquire))) return std::nullopt;
     mSaving->thread.join();
     const std::unique_ptr<BackgroundSave> job = std::move(mSaving);
     const std::string dir = mProjectDir->string();

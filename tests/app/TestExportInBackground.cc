@@ -2,9 +2,11 @@
 // A window's export is meshed and written on its own thread (the frame never waits for it):
 // the file holds the clay as it was when the export was asked for, whatever is sculpted
 // meanwhile; refusals come at once, before anything starts; closing waits for the file.
+// The save key likewise (the last test).
 // Read back by Assimp (a third-party loader from Debian).
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/core/ExportMesh.h"
+#include "vsculpt/core/Project.h"
 #include "vsculpt/core/Zoom.h"
 
 #include "../TestFixtures.h"
@@ -152,4 +154,32 @@ TEST_F(ExportInBackground, TheWindowsExportKeepsTheFinestDetailSculpted) {
                  atZoom1 = rig.session().wholeMesh(zoom1).triangleCount();
     EXPECT_EQ(load(path).faces, atZoom3);
     EXPECT_GT(atZoom3, 4 * atZoom1);  // a finer grid indeed: 4x the triangles per halving
+}
+
+// The save key (F5) goes the same way: the rig says it started, the frame goes on, and the
+// outcome comes from the rig's poll; a window's close waits for it.
+TEST_F(ExportInBackground, TheSaveKeySavesBesideTheFrame) {
+    const std::filesystem::path project = dir / "project";
+    uint64_t sequenceAtF5 = 0;
+    {
+        app::RigOptions options;
+        options.project = app::ProjectChoice::Given;
+        options.projectDir = project;
+        app::Rig rig(smallSphere(), options);
+        studio::Studio& studio = rig.studio();
+        studio.stroke({Vec3(-6, 0, 25), Vec3(6, 0, 25)}, false);
+        sequenceAtF5 = 1;
+        EXPECT_EQ(rig.save(), "saving " + project.string() + "...");
+        studio.stroke({Vec3(0, -6, 25), Vec3(0, 6, 25)}, false);  // the frame goes on
+        const std::optional<std::string> outcome = rig.pollBackgroundWork(true);
+        ASSERT_TRUE(outcome);
+        EXPECT_EQ(*outcome, "saved " + project.string());
+        EXPECT_EQ(core::readSnapshot(core::snapshotPath(project)).lastSequence, sequenceAtF5);
+        rig.save();
+        rig.close();  // waits for the second save, then has nothing left to snapshot
+        EXPECT_FALSE(rig.pollBackgroundWork(true));
+        EXPECT_FALSE(rig.session().hasJournaledEdits());
+    }
+    EXPECT_EQ(core::readSnapshot(core::snapshotPath(project)).lastSequence, 2u);
+    EXPECT_TRUE(core::readJournal(core::journalPath(project)).records.empty());
 }

@@ -689,6 +689,66 @@ TEST(Project, ResetStartsANewFileSoALinkedOldJournalKeepsItsRecords) {
     EXPECT_EQ(now.records[0].sequence, 2u);
 }
 
+TEST(Project, ABackgroundSaveLosesNoEditMadeWhileItsSnapshotWasWritten) {
+    // A background save (Session::saveInBackground): the snapshot of sequence S is written
+    // while edits S+1... go on being journaled, then the journal restarts with those edits.
+    // Every moment reads back as every edit, by the snapshot and by the backup route.
+    TempDir dir;
+    Sculptor s;
+    JournalWriter j(journalPath(dir.path), 0);
+    s.stroke(j, ToolOp::Add, 4, {-20, 0, 0}, {20, 0, 0});
+    s.save(dir.path, j);  // an older snapshot, so the background save rotates backups
+    s.stroke(j, ToolOp::Carve, 3, {0, -15, 0}, {0, 15, 0});
+    s.stroke(j, ToolOp::Add, 4, {-10, 10, 0}, {10, 10, 0});
+    const std::string config = configToJson(s.sculpture.config());
+    auto everyEditReadsBack = [&](const std::string& when) {
+        const std::vector<Entry> live = entries(s.sculpture);
+        Reopened r(dir.path);
+        EXPECT_TRUE(r.project.warnings.empty()) << when << ": " << allWarnings(r.project);
+        EXPECT_EQ(r.project.lastSequence(), s.sequence) << when;
+        EXPECT_EQ(entries(*r.sculpture), live) << when;
+        EXPECT_EQ(r.history.done().size(), s.history.done().size()) << when;
+        EXPECT_EQ(r.history.undone().size(), s.history.undone().size()) << when;
+        const fs::path tmp = dir.path.string() + "_backup_route";
+        fs::remove_all(tmp);
+        fs::copy(dir.path, tmp);
+        fs::remove(snapshotPath(tmp));
+        Reopened b(tmp);
+        EXPECT_TRUE(b.project.fromBackup) << when;
+        EXPECT_EQ(b.project.lastSequence(), s.sequence) << when;
+        EXPECT_EQ(entries(*b.sculpture), live) << when << ", by the backup";
+        fs::remove_all(tmp);
+    };
+
+    // The save is asked for at S = 3: what it writes is copied now.
+    const uint64_t saved = s.sequence;
+    const uint64_t keepFrom = j.bytes();
+    const std::unique_ptr<Sculpture> copy = s.sculpture.clone();
+    const History historyCopy = s.history;
+    s.stroke(j, ToolOp::Add, 5, {0, 0, -25}, {0, 0, 25});  // while it is being written
+    s.undo(j);
+    writeProjectSnapshot(dir.path, config, saved, *copy, historyCopy);
+    EXPECT_EQ(readSnapshot(snapshotPath(dir.path)).lastSequence, saved);
+    everyEditReadsBack("snapshot written, journal not restarted");
+    s.stroke(j, ToolOp::Add, 2, {5, 5, 0}, {10, 5, 0});  // before the frame finishes it
+    everyEditReadsBack("an edit after the snapshot");
+
+    j.reset(keepFrom);
+    std::vector<uint64_t> kept;
+    for (const JournalRecord& r : readJournal(journalPath(dir.path)).records)
+        kept.push_back(r.sequence);
+    EXPECT_EQ(kept, (std::vector<uint64_t>{4, 5, 6}));  // exactly the edits after the snapshot
+    EXPECT_EQ(readJournal(journalBackupPath(dir.path)).records.back().sequence, 6u);
+    everyEditReadsBack("journal restarted");
+    s.undo(j);
+    s.stroke(j, ToolOp::Carve, 2, {0, 0, 18}, {6, 0, 18});
+    everyEditReadsBack("edits after the restart");
+
+    // An offset that is not between records of this journal is a bug of the caller.
+    EXPECT_THROW(j.reset(j.bytes() + 1), std::logic_error);
+    EXPECT_THROW(j.reset(3), std::logic_error);
+}
+
 TEST(Project, ReadProjectWritesNothingAndAGapEndsTheRecovery) {
     TempDir dir;
     {

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <random>
 
 using namespace vsculpt;
@@ -205,6 +206,71 @@ TEST(Session, JournaledEditsAreThoseTheSnapshotLacks) {
     Session plain(smallConfig());  // no project
     sculptSome(plain, 1, 3);
     EXPECT_FALSE(plain.hasJournaledEdits());
+}
+
+// F5 in the windows: the snapshot is written beside further edits. Whenever the thread
+// finishes (before, between or after the edits below: the test holds either way), the
+// snapshot holds the edits made before the request, the restarted journal exactly the ones
+// after it, and reopening gives every edit.
+TEST(Session, ABackgroundSaveHoldsTheClayAsAskedAndTheJournalTheEditsSince) {
+    TempDir dir;
+    uint64_t end = 0, atRequest = 0;
+    {
+        auto s = Session::openProject(dir.path, smallConfig());
+        sculptSome(*s, 3, 5);
+        atRequest = viewHash(*s);
+        ASSERT_TRUE(s->saveInBackground());
+        EXPECT_TRUE(s->saving());
+        sculptSome(*s, 2, 6);  // while it may still be writing
+        s->undo();
+        bool failed = true;
+        const std::optional<std::string> outcome = s->pollSave(true, &failed);
+        ASSERT_TRUE(outcome);
+        EXPECT_EQ(*outcome, "saved " + dir.path.string());
+        EXPECT_FALSE(failed);
+        EXPECT_FALSE(s->saving());
+        EXPECT_FALSE(s->pollSave(true));      // said once
+        EXPECT_TRUE(s->hasJournaledEdits());  // the three edits after the request
+        const core::SnapshotContents snap = core::readSnapshot(core::snapshotPath(dir.path));
+        EXPECT_EQ(snap.lastSequence, 3u);
+        EXPECT_EQ(snap.done.size(), 3u);
+        std::vector<uint64_t> journaled;
+        for (const core::JournalRecord& r : core::readJournal(core::journalPath(dir.path)).records)
+            journaled.push_back(r.sequence);
+        EXPECT_EQ(journaled, (std::vector<uint64_t>{4, 5, 6}));
+        // Destroyed with a save in flight: it is finished, not dropped.
+        sculptSome(*s, 1, 7);
+        ASSERT_TRUE(s->saveInBackground());
+        sculptSome(*s, 1, 8);
+        end = viewHash(*s);
+    }
+    EXPECT_EQ(core::readSnapshot(core::snapshotPath(dir.path)).lastSequence, 7u);
+    EXPECT_EQ(core::readJournal(core::journalPath(dir.path)).records.size(), 1u);
+    auto s = Session::openProject(dir.path, core::SculptConfig{});
+    EXPECT_TRUE(s->recoveryWarning().empty()) << s->recoveryWarning();
+    EXPECT_EQ(s->recoveredEdits(), 1u);
+    EXPECT_EQ(viewHash(*s), end);
+    // The clay as it was at the first request is three undos back (of the four strokes since,
+    // one was undone and its redo dropped by the next stroke).
+    s->undo();
+    s->undo();
+    EXPECT_NE(viewHash(*s), atRequest);
+    s->undo();
+    EXPECT_EQ(viewHash(*s), atRequest);
+}
+
+TEST(Session, ABackgroundSaveIsRefusedWhereASaveIs) {
+    TempDir dir;
+    {
+        auto s = Session::openProject(dir.path, smallConfig());
+        sculptSome(*s, 1, 5);
+    }
+    auto r = Session::openProject(dir.path, smallConfig(), ProjectMode::ReadOnly);
+    EXPECT_THROW(r->saveInBackground(), SessionError);
+    EXPECT_FALSE(r->saving());
+    Session plain(smallConfig());
+    EXPECT_FALSE(plain.saveInBackground());  // no project: nothing to save
+    EXPECT_FALSE(plain.pollSave(true));
 }
 
 TEST(Session, AProjectKeepsThePlacementModeItWasMadeWith) {

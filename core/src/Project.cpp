@@ -425,12 +425,12 @@ std::string encodeSnapshot(const fs::path& path, const std::string& configJson,
         w.pod(e.coord.z);
         w.pod(e.weight);
     });
-    const std::pair<const char*, const std::vector<StrokeRecord>*> stacks[] = {
-        {"undo step ", &history.done()}, {"redo step ", &history.undone()}};
+    const std::pair<const char*, HistorySteps> stacks[] = {{"undo step ", history.done()},
+                                                           {"redo step ", history.undone()}};
     for (const auto& [name, stack] : stacks) {
-        w.pod(uint32_t(stack->size()));
-        for (size_t i = 0; i < stack->size(); ++i) {
-            const StrokeRecord& r = (*stack)[i];
+        w.pod(uint32_t(stack.size()));
+        for (size_t i = 0; i < stack.size(); ++i) {
+            const StrokeRecord& r = stack[i];
             if (problem.empty())
                 if (std::string p = strokeProblem(r); !p.empty())
                     problem = name + std::to_string(i + 1) + ": " + p;

@@ -7,6 +7,9 @@
 
 #include "vsculpt/core/PlaceStroke.h"
 
+#include <cstddef>
+#include <iterator>
+#include <memory>
 #include <vector>
 
 namespace vsculpt::core {
@@ -25,6 +28,46 @@ struct StrokeRecord {
     bool solid = false;
 };
 
+/// One stack of a History (done or undone, oldest first), read-only: a view that stays
+/// valid while the History lives and its stacks are not changed.
+class HistorySteps {
+  public:
+    using Stack = std::vector<std::shared_ptr<const StrokeRecord>>;
+    class iterator {
+      public:
+        using iterator_category = std::forward_iterator_tag;
+        using value_type = StrokeRecord;
+        using difference_type = std::ptrdiff_t;
+        using pointer = const StrokeRecord*;
+        using reference = const StrokeRecord&;
+        iterator() = default;
+        explicit iterator(Stack::const_iterator it) : mIt(it) {}
+        reference operator*() const { return **mIt; }
+        pointer operator->() const { return mIt->get(); }
+        iterator& operator++() {
+            ++mIt;
+            return *this;
+        }
+        iterator operator++(int) { return iterator(mIt++); }
+        friend bool operator==(const iterator&, const iterator&) = default;
+
+      private:
+        Stack::const_iterator mIt;
+    };
+    explicit HistorySteps(const Stack& stack) : mStack(&stack) {}
+    size_t size() const { return mStack->size(); }
+    bool empty() const { return mStack->empty(); }
+    const StrokeRecord& operator[](size_t i) const { return *(*mStack)[i]; }
+    const StrokeRecord& back() const { return *mStack->back(); }
+    iterator begin() const { return iterator(mStack->begin()); }
+    iterator end() const { return iterator(mStack->end()); }
+
+  private:
+    const Stack* mStack;
+};
+
+/// Records are immutable once pushed and shared between copies, so copying a History (a
+/// background save's snapshot of it) costs a pointer per step, not the steps' changes.
 class History {
   public:
     /// Records a finished stroke; clears the redo steps.
@@ -36,14 +79,15 @@ class History {
     Aabb undo(Sculpture& sculpture);
     Aabb redo(Sculpture& sculpture);
 
-    const std::vector<StrokeRecord>& done() const { return mDone; }
-    const std::vector<StrokeRecord>& undone() const { return mUndone; }  ///< last = next redo
+    HistorySteps done() const { return HistorySteps(mDone); }
+    HistorySteps undone() const { return HistorySteps(mUndone); }  ///< last = next redo
     /// Restores stacks read from a project snapshot.
     void restore(std::vector<StrokeRecord> done, std::vector<StrokeRecord> undone);
+    /// Bytes of the records this history holds (copies share them; each counts them).
     size_t memoryBytes() const;
 
   private:
-    std::vector<StrokeRecord> mDone, mUndone;
+    HistorySteps::Stack mDone, mUndone;
 };
 
 }  // namespace vsculpt::core

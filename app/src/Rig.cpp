@@ -276,6 +276,13 @@ std::string Rig::save() {
     return "saving " + mStudio->session().projectDir()->string() + "...";
 }
 
+std::string Rig::saveNow() {
+    // The studio is about to be replaced: the snapshot is written before it goes, and said.
+    pollSave(true);
+    mStudio->save();
+    return "saved " + mStudio->session().projectDir()->string();
+}
+
 std::optional<std::string> Rig::pollSave(bool wait) {
     bool failed = false;
     std::optional<std::string> outcome = mStudio->pollSave(wait, &failed);
@@ -341,7 +348,7 @@ void Rig::rebuildInput() {
 
 std::string Rig::newProject() {
     std::string saved;
-    if (mStudio->session().projectDir() && !mStudio->session().readOnly()) saved = save() + "; ";
+    if (mStudio->session().projectDir() && !mStudio->session().readOnly()) saved = saveNow() + "; ";
     const std::filesystem::path dir = newProjectDir("autosave");
     mDevices.reset();
     mInteraction.reset();
@@ -366,7 +373,7 @@ std::string Rig::openProject(const std::filesystem::path& dir) {
     // Opened (and locked) before anything changes here: a refusal leaves this session as it is.
     std::unique_ptr<Studio> next = Studio::openProject(dir, mConfig, mOptions.mode);
     std::string saved;
-    if (current && !mStudio->session().readOnly()) saved = save() + "; ";
+    if (current && !mStudio->session().readOnly()) saved = saveNow() + "; ";
     mDevices.reset();
     mInteraction.reset();
     mStudio = std::move(next);

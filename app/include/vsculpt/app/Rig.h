@@ -154,6 +154,8 @@ class Rig {
     std::string projectAction(const std::string& action);
 
   private:
+    /// A snapshot written before returning (the studio is about to be replaced): "saved DIR".
+    std::string saveNow();
     void openStudio(const std::filesystem::path& dir);
     void rebuildInput();
 

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <iterator>
 #include <utility>
 
 namespace vsculpt::core {
@@ -62,6 +63,7 @@ AsyncMesher::~AsyncMesher() {
         std::lock_guard lock(mMutex);
         mStop = true;
         mCancel.store(true);
+        mNewer.store(true);
     }
     mWake.notify_all();
     mThread.join();
@@ -79,7 +81,9 @@ uint64_t AsyncMesher::enqueue(Job job) {
             mCancel.store(true);  // the running rebuild is for a region no longer wanted
         } else {
             mInFlight.emplace_back(edit, job.posted);
+            if (job.focus) mFocusInFlight.emplace_back(edit, job.posted);
         }
+        mNewer.store(true);
         mQueue.push_back(std::move(job));
     }
     mWake.notify_one();
@@ -87,11 +91,12 @@ uint64_t AsyncMesher::enqueue(Job job) {
 }
 
 uint64_t AsyncMesher::post(std::vector<SkeletonWrite> writes, std::vector<Vec3> points,
-                           double radius) {
+                           double radius, std::optional<Focus> focus) {
     Job j;
     j.writes = std::move(writes);
     j.points = std::move(points);
     j.radius = radius;
+    j.focus = focus;
     return enqueue(std::move(j));
 }
 
@@ -158,6 +163,11 @@ std::vector<double> AsyncMesher::takePublishDelaysMs() {
     return std::exchange(mDelaysMs, {});
 }
 
+std::vector<double> AsyncMesher::takeFocusDelaysMs() {
+    std::lock_guard lock(mMutex);
+    return std::exchange(mFocusDelaysMs, {});
+}
+
 void AsyncMesher::hold(bool held) {
     {
         std::lock_guard lock(mMutex);
@@ -172,20 +182,26 @@ void AsyncMesher::publish(std::shared_ptr<const MeshChunks> set) {
         std::lock_guard lock(mMutex);
         mPublished = std::move(set);
         if (mOptions.onPublish) ++mCallbacksRunning;
-        if (mPublished->complete) {
-            const auto now = Clock::now();
-            auto it = mInFlight.begin();
-            for (; it != mInFlight.end() && it->first <= mPublished->edits; ++it) {
+        // A partial set shows the surroundings of every focus up to its edit (each pass
+        // rebuilds around the latest; the earlier ones' were published by earlier passes or
+        // lie in the blocks rebuilt now).
+        const auto now = Clock::now();
+        auto takeDelays = [&](std::vector<std::pair<uint64_t, Clock::time_point>>& inFlight,
+                              std::vector<double>& delays) {
+            auto it = inFlight.begin();
+            for (; it != inFlight.end() && it->first <= mPublished->edits; ++it) {
                 // A host that never takes them (a session of hours) must not grow: the older
                 // half goes when the list is full.
-                if (mDelaysMs.size() >= std::max<size_t>(1, mOptions.maxKeptDelays))
-                    mDelaysMs.erase(mDelaysMs.begin(),
-                                    mDelaysMs.begin() + std::ptrdiff_t(mDelaysMs.size() / 2 + 1));
-                mDelaysMs.push_back(
+                if (delays.size() >= std::max<size_t>(1, mOptions.maxKeptDelays))
+                    delays.erase(delays.begin(),
+                                 delays.begin() + std::ptrdiff_t(delays.size() / 2 + 1));
+                delays.push_back(
                     std::chrono::duration<double, std::milli>(now - it->second).count());
             }
-            mInFlight.erase(mInFlight.begin(), it);
-        }
+            inFlight.erase(inFlight.begin(), it);
+        };
+        if (mPublished->complete || mPublished->partial) takeDelays(mFocusInFlight, mFocusDelaysMs);
+        if (mPublished->complete) takeDelays(mInFlight, mDelaysMs);
     }
     mIdle.notify_all();
     if (!mOptions.onPublish) return;
@@ -196,6 +212,35 @@ void AsyncMesher::publish(std::shared_ptr<const MeshChunks> set) {
         --mCallbacksRunning;
     }
     mIdle.notify_all();
+}
+
+void AsyncMesher::rebuildAroundFocus(const Focus& focus, uint64_t lastEdit) {
+    // Chunks within the focus radius read blocks up to a chunk and a block beyond it
+    // (publishChunks): those must be rebuilt for the chunks to be published now.
+    const double margin = (Polygonizer::kChunkCells + Polygonizer::kBlockCells) *
+                          mPoly->region().spacingMm * std::sqrt(3.0);
+    const Polygonizer::BlockList around =
+        mPoly->blocksNear(std::span<const Vec3>(&focus.centre, 1), focus.radiusMm + margin);
+    Polygonizer::BlockList near, rest;
+    std::set_intersection(mPending.begin(), mPending.end(), around.begin(), around.end(),
+                          std::back_inserter(near));
+    if (near.empty() || near.size() == mPending.size()) return;  // one pass does it all
+    std::set_difference(mPending.begin(), mPending.end(), near.begin(), near.end(),
+                        std::back_inserter(rest));
+    Polygonizer::BlockList unfinished =
+        mPoly->rebuildBlocks(near, mOptions.threaded, &mCancel).unfinished;
+    if (!unfinished.empty()) {  // a region change: the pass ends anyway
+        Polygonizer::mergeBlocks(rest, std::move(unfinished));
+        mPending = std::move(rest);
+        return;
+    }
+    const std::shared_ptr<const MeshChunks> before = mPublished;  // written only here
+    if (before->region == mPoly->region() && !before->preview) {
+        auto set = std::const_pointer_cast<MeshChunks>(publishChunks(*mPoly, before.get(), &rest));
+        set->edits = lastEdit;
+        publish(std::move(set));
+    }
+    mPending = std::move(rest);
 }
 
 void AsyncMesher::run() {
@@ -214,8 +259,9 @@ void AsyncMesher::loop() {
             if (mStop) return;
             jobs.swap(mQueue);
             // Cleared with the queue taken: a region change posted from now on cancels the
-            // pass that follows.
+            // pass that follows, and any job interrupts the blocks left after the focus.
             mCancel.store(false);
+            mNewer.store(false);
             ++mPasses;
         }
         try {
@@ -258,11 +304,20 @@ void AsyncMesher::loop() {
                 mPoly->useWorkers(mWorkers.get());
                 mPending = mPoly->rebuildAll(mOptions.threaded, &mCancel).unfinished;
             } else {
-                for (const Job* j : dirty)
+                std::optional<Focus> focus;  // the latest edit's
+                for (const Job* j : dirty) {
                     Polygonizer::mergeBlocks(
                         mPending, j->points.empty() ? mPoly->blocksTouching(j->box)
                                                     : mPoly->blocksNear(j->points, j->radius));
-                mPending = mPoly->rebuildBlocks(mPending, mOptions.threaded, &mCancel).unfinished;
+                    if (j->focus) focus = j->focus;
+                }
+                if (focus && mOptions.focusFirst) rebuildAroundFocus(*focus, lastEdit);
+                // With the focus first, a newer edit interrupts the rest: its own focus comes
+                // before these blocks, which stay pending.
+                mPending = mPoly
+                               ->rebuildBlocks(mPending, mOptions.threaded,
+                                               mOptions.focusFirst ? &mNewer : &mCancel)
+                               .unfinished;
             }
             if (!mPending.empty()) {
                 std::lock_guard lock(mMutex);

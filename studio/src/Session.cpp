@@ -185,10 +185,11 @@ void Session::markDirty(std::vector<std::array<int, 3>> blocks) {
     if (!mViewRegionStale) Polygonizer::mergeBlocks(mDirtyBlocks, std::move(blocks));
 }
 
-void Session::meshChanged(std::span<const Vec3> points, double radius) {
+void Session::meshChanged(std::span<const Vec3> points, double radius,
+                          std::optional<AsyncMesher::Focus> focus) {
     if (mMesher) {
         mMesher->post(std::exchange(mWrites, {}), std::vector<Vec3>(points.begin(), points.end()),
-                      radius);
+                      radius, focus);
         return;
     }
     if (mDeferred) {
@@ -359,7 +360,12 @@ void Session::strokeSample(const Vec3& p, bool world) {
     const Vec3 objectPos = world ? mWorldFromObject.inverse().apply(p) : p;
     try {
         const auto t0 = std::chrono::steady_clock::now();
-        strokeEdited(mStroke->addSample(objectPos), t0);
+        const EditResult r = mStroke->addSample(objectPos);
+        // The surface within two tool radii of the tool first: the tool's own change and the
+        // placement's adjustments beside it (docs/async-mesher.md).
+        strokeEdited(r, t0,
+                     AsyncMesher::Focus{
+                         objectPos, mSculpture->levels().level(mSize).diameterMm + r.supportMm});
         mStrokeRecord.samples.push_back(objectPos);
     } catch (const std::logic_error& e) {
         // A refused sample cancels the whole stroke: no half-applied, unjournaled edit.
@@ -376,8 +382,9 @@ void Session::strokeSample(const Vec3& p, bool world) {
     }
 }
 
-void Session::strokeEdited(const EditResult& r, std::chrono::steady_clock::time_point t0) {
-    meshChanged(r.changedPoints, r.supportMm);
+void Session::strokeEdited(const EditResult& r, std::chrono::steady_clock::time_point t0,
+                           std::optional<AsyncMesher::Focus> focus) {
+    meshChanged(r.changedPoints, r.supportMm, focus);
     mSampleMs.push_back(
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
 }

@@ -713,8 +713,10 @@ BENCHMARK(BM_FrameLoop)
 /// frame thread places the sample, posts its writes and takes the last published chunk set;
 /// the mesher thread rebuilds and extracts chunk meshes. Reported: the frame thread's CPU
 /// per frame (GL upload and draw excluded, as above), the delay from post() to the first
-/// published set holding the sample, and how many rebuild passes the stroke took (fewer than
-/// samples: coalesced).
+/// published set holding the sample, the delay to the first set showing the surface around
+/// the tool current (post_to_tool_published_: a partial set, AsyncMesher::Focus), and how many
+/// rebuild passes the stroke took (fewer than samples: coalesced). VSCULPT_BENCH_FOCUS_FIRST=0
+/// turns the tool-first order off (A/B).
 /// The mesher's threads for A/B runs: VSCULPT_BENCH_MESHER_THREADS=N (the mesher's own
 /// included; stop 21 used every core but one), VSCULPT_BENCH_MESHER_NICE=N (the helpers' nice
 /// steps below the frame; default AsyncMesher::kHelperNice, 0 = the same priority).
@@ -722,6 +724,7 @@ AsyncMesher::Options benchMesherOptions() {
     AsyncMesher::Options o;
     if (const char* n = std::getenv("VSCULPT_BENCH_MESHER_THREADS")) o.threads = std::atoi(n);
     if (const char* n = std::getenv("VSCULPT_BENCH_MESHER_NICE")) o.helperNice = std::atoi(n);
+    if (const char* n = std::getenv("VSCULPT_BENCH_FOCUS_FIRST")) o.focusFirst = std::atoi(n) != 0;
     return o;
 }
 
@@ -741,7 +744,7 @@ void BM_FrameLoopAsync(benchmark::State& state) {
     AsyncMesher mesher(s, region, s.config().polygonizer.viewRootTolerance, benchMesherOptions());
     const std::vector<std::vector<Vec3>> paths = frameLoopPaths(probe, top, d);
     const auto period = std::chrono::nanoseconds(11'111'111);
-    std::vector<double> frameCpu, frameWall, delay, endDelay;
+    std::vector<double> frameCpu, frameWall, delay, endDelay, focusDelay;
     bool flushed = false;
     size_t flushes = 0;
     std::vector<uint64_t> shown = mesher.published()->versions;
@@ -761,7 +764,9 @@ void BM_FrameLoopAsync(benchmark::State& state) {
                     const auto w0 = Clock::now();
                     const double c0 = threadCpuMs();
                     const EditResult r = stroke.addSample(path[size_t(f)]);
-                    mesher.post(std::exchange(writes, {}), r.changedPoints, r.supportMm);
+                    // As the session posts a sample: the tool's surroundings first.
+                    mesher.post(std::exchange(writes, {}), r.changedPoints, r.supportMm,
+                                AsyncMesher::Focus{path[size_t(f)], d + r.supportMm});
                     const std::shared_ptr<const MeshChunks> set = mesher.published();
                     // What the renderer would upload this frame (the meshes exist already).
                     for (size_t i = 0; i < set->versions.size(); ++i)
@@ -792,6 +797,8 @@ void BM_FrameLoopAsync(benchmark::State& state) {
             }
             for (double ms : delays)
                 delay.push_back(ms);
+            for (double ms : mesher.takeFocusDelaysMs())
+                focusDelay.push_back(ms);
             mesher.post(std::exchange(writes, {}), revertChanges(s, changes));
             mesher.waitIdle();
             mesher.takePublishDelaysMs();
@@ -803,6 +810,7 @@ void BM_FrameLoopAsync(benchmark::State& state) {
     reportPercentiles(state, "frame_cpu_", frameCpu);
     state.counters["frame_wall_p99_ms"] = quantile(frameWall, 0.99);
     reportPercentiles(state, "post_to_published_", delay);
+    reportPercentiles(state, "post_to_tool_published_", focusDelay);
     reportPercentiles(state, "stroke_end_to_published_", endDelay);
     state.counters["frames"] = double(frameCpu.size());
     state.counters["frames_over_11ms"] = missed;

@@ -134,6 +134,132 @@ TEST(AsyncMesher, EveryCompleteSetEqualsAFullRebuildAtItsEdit) {
         EXPECT_LE(seen.sets[i - 1].edits, seen.sets[i].edits);
 }
 
+/// Each chunk's mesh hash (0: no triangles), chunk index order.
+std::vector<uint64_t> chunkHashes(const MeshChunks& c) {
+    std::vector<uint64_t> out(c.meshes.size(), 0);
+    for (size_t i = 0; i < c.meshes.size(); ++i)
+        if (c.meshes[i]) out[i] = canonicalMeshHash(*c.meshes[i]);
+    return out;
+}
+
+std::vector<uint64_t> chunkHashes(const Polygonizer& p) {
+    const int c = p.chunksPerAxis();
+    std::vector<uint64_t> out;
+    for (int x = 0; x < c; ++x)
+        for (int y = 0; y < c; ++y)
+            for (int z = 0; z < c; ++z) {
+                const Mesh m = p.chunkMesh(x, y, z);
+                out.push_back(m.triangleCount() ? canonicalMeshHash(m) : 0);
+            }
+    return out;
+}
+
+TEST(AsyncMesher, TheSurfaceAroundTheToolIsPublishedFirstAndCompleteSetsStayExact) {
+    // Zoomed in on the sphere's top: the blocks a partial set must rebuild reach a chunk and
+    // a block beyond the focus, which at zoom 1 on the test grid is the whole sphere.
+    SculptConfig cfg = sphereConfig();
+    cfg.polygonizer.gridN = 96;
+    Sculpture s(cfg);
+    std::vector<SkeletonWrite> writes;
+    s.store().logWritesTo(&writes);
+    const GridRegion region = zoomRegion(cfg, s.levels(), 3, Vec3(0, 0, 30));
+    struct Set {
+        uint64_t edits;
+        bool complete, partial;
+        std::vector<uint64_t> chunks;
+    };
+    std::mutex m;
+    std::vector<Set> sets;
+    AsyncMesher::Options o;
+    o.onPublish = [&](const MeshChunks& c) {
+        std::vector<uint64_t> h = chunkHashes(c);
+        std::lock_guard lock(m);
+        sets.push_back({c.edits, c.complete, c.partial, std::move(h)});
+    };
+    AsyncMesher mesher(s, region, cfg.polygonizer.rootTolerance, o);
+    Polygonizer ref(s, region, cfg.polygonizer.rootTolerance);
+    ref.rebuildAll();
+    std::map<uint64_t, std::vector<uint64_t>> refChunks;
+    std::map<uint64_t, AsyncMesher::Focus> focusOf;
+    const int c = ref.chunksPerAxis();
+    const double chunkMm = Polygonizer::kChunkCells * region.spacingMm;
+    // Chunks that touch the focus ball: the ones a partial set must show current.
+    auto chunksAround = [&](const AsyncMesher::Focus& f) {
+        std::vector<size_t> out;
+        for (int x = 0; x < c; ++x)
+            for (int y = 0; y < c; ++y)
+                for (int z = 0; z < c; ++z) {
+                    const Vec3 lo = Vec3(region.originCell[0] + x * Polygonizer::kChunkCells,
+                                         region.originCell[1] + y * Polygonizer::kChunkCells,
+                                         region.originCell[2] + z * Polygonizer::kChunkCells) *
+                                    region.spacingMm;
+                    const Vec3 d = f.centre - glm::clamp(f.centre, lo, lo + Vec3(chunkMm));
+                    if (glm::length(d) < f.radiusMm) out.push_back((size_t(x) * c + y) * c + z);
+                }
+        return out;
+    };
+    // Two long size-4 strokes across the sphere, one posted as it is made (whatever the
+    // mesher's timing), one held so that a single pass takes all of it: its blocks around the
+    // last sample are then fewer than the pass's, and a partial set must come first.
+    const std::vector<std::pair<Vec3, Vec3>> strokes = {{Vec3(-16, -4, 25), Vec3(16, 5, 25)},
+                                                        {Vec3(-13, 13, 24), Vec3(14, -13, 24)}};
+    size_t heldFrom = 0;
+    for (size_t k = 0; k < strokes.size(); ++k) {
+        if (k == 1) {
+            mesher.waitIdle();
+            std::lock_guard lock(m);
+            heldFrom = sets.size();
+            mesher.hold(true);
+        }
+        StrokeBuilder builder(s, k == 0 ? ToolOp::Add : ToolOp::Carve, 4);
+        const double d = s.levels().level(4).diameterMm;
+        for (const Vec3& p : linePath(strokes[k].first, strokes[k].second, 0.3 * d)) {
+            const EditResult r = builder.addSample(p);
+            const AsyncMesher::Focus f{p, d + r.supportMm};
+            const uint64_t e =
+                mesher.post(std::exchange(writes, {}), r.changedPoints, r.supportMm, f);
+            ref.noteWrites({});  // (the reference re-evaluates: its own path)
+            ref.update(r.changedPoints, r.supportMm);
+            refChunks[e] = chunkHashes(ref);
+            focusOf[e] = f;
+        }
+        if (k == 1) mesher.hold(false);
+    }
+    mesher.waitIdle();
+    EXPECT_EQ(mesher.verifyAgainstFullRebuild(), "");
+    s.store().logWritesTo(nullptr);
+
+    std::lock_guard lock(m);
+    size_t partials = 0, heldPartials = 0, checkedChunks = 0;
+    for (size_t i = 0; i < sets.size(); ++i) {
+        const Set& set = sets[i];
+        ASSERT_TRUE(refChunks.count(set.edits)) << set.edits;
+        const std::vector<uint64_t>& want = refChunks[set.edits];
+        if (set.complete) {
+            EXPECT_FALSE(set.partial);
+            EXPECT_EQ(set.chunks, want) << "complete set at edit " << set.edits;
+            continue;
+        }
+        ASSERT_TRUE(set.partial) << "a set neither complete nor partial, edit " << set.edits;
+        ++partials;
+        heldPartials += i >= heldFrom;
+        for (size_t chunk : chunksAround(focusOf[set.edits])) {
+            EXPECT_EQ(set.chunks[chunk], want[chunk])
+                << "partial set at edit " << set.edits << ": chunk " << chunk;
+            ++checkedChunks;
+        }
+    }
+    EXPECT_GE(heldPartials, 1u);
+    EXPECT_GT(checkedChunks, 0u);
+    // The last set is complete and holds every edit.
+    ASSERT_FALSE(sets.empty());
+    EXPECT_TRUE(sets.back().complete);
+    EXPECT_EQ(sets.back().edits, mesher.lastPosted());
+    EXPECT_EQ(mesher.takeFocusDelaysMs().size(), refChunks.size());
+    std::printf("%zu sets, %zu partial (%zu in the held pass), %zu chunks checked\n", sets.size(),
+                partials, heldPartials, checkedChunks);
+}
+
 TEST(AsyncMesher, EditsPostedDuringARebuildAreCoalescedIntoOnePass) {
     const SculptConfig cfg = sphereConfig();
     Sculpture s(cfg);

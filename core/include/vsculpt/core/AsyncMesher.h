@@ -18,6 +18,11 @@
 ///   of the new region, then the new region at full resolution.
 /// - Exactness: a set is published `complete` only when no dirty block is left; it then
 ///   equals a full rebuild of the sculpture after `edits` (partial == full).
+/// - The tool first: an edit posted with a Focus (where the tool is) has the dirty blocks
+///   around it rebuilt first and published as a `partial` set (the chunks there current, the
+///   others as before); the rest follows, and a newer edit interrupts it (its blocks stay
+///   dirty and are rebuilt after the newer edit's own), so the surface under the tool does not
+///   wait for the adjustments a stroke makes further out.
 ///
 /// Threads: post(), setRegion(), published(), waitIdle() and verify() may be called from any
 /// one thread (the one editing the sculpture). The mesher thread touches only its replica.
@@ -65,6 +70,8 @@ class AsyncMesher {
         /// a session that never takes them).
         size_t maxKeptDelays = size_t(1) << 16;
         bool preview = true;  ///< publish a half-resolution preview of a new region first
+        /// Rebuild and publish the blocks around a posted Focus first (see above).
+        bool focusFirst = true;
         /// Called on the mesher thread with every set it publishes, after publishing (tests;
         /// a host that wants to wake its frame loop); waitIdle() also waits for it. Must not
         /// call into the mesher.
@@ -82,11 +89,17 @@ class AsyncMesher {
     AsyncMesher(const AsyncMesher&) = delete;
     AsyncMesher& operator=(const AsyncMesher&) = delete;
 
+    /// Where the sculptor looks as an edit is made: the tool's centre (object mm) and how far
+    /// around it the surface is wanted first.
+    struct Focus {
+        Vec3 centre{0.0};
+        double radiusMm = 0;
+    };
     /// An edit of the caller's sculpture: its writes in the order made, and where f may have
     /// changed (within `radiusMm` of the points, or the box). Takes a lock only to queue.
     /// Returns the edit's number (1, 2, ...). Rethrows an error the mesher thread hit.
     uint64_t post(std::vector<SkeletonWrite> writes, std::vector<Vec3> changedPoints,
-                  double radiusMm);
+                  double radiusMm, std::optional<Focus> focus = std::nullopt);
     uint64_t post(std::vector<SkeletonWrite> writes, const Aabb& changedRegion);
     /// The view moves to `region` (a zoom change); cancels a rebuild in progress.
     uint64_t setRegion(const GridRegion& region);
@@ -107,6 +120,9 @@ class AsyncMesher {
     /// edits published since the last call (benchmarks, `--stats`): at most
     /// Options::maxKeptDelays, the latest (when the list is full its older half is dropped).
     std::vector<double> takePublishDelaysMs();
+    /// The same, to the first set that shows the surface around the edit's focus current: a
+    /// partial set, or the complete one when none came first (edits posted with a Focus).
+    std::vector<double> takeFocusDelaysMs();
     /// While held, posted jobs wait in the queue and are taken together on release (a host
     /// batching a burst of edits; tests of coalescing). waitIdle() must not be called while
     /// held with jobs queued.
@@ -126,11 +142,15 @@ class AsyncMesher {
         double radius = 0;
         Aabb box;                          ///< used when points is empty
         std::optional<GridRegion> region;  ///< a region change
+        std::optional<Focus> focus;
     };
     uint64_t enqueue(Job job);
     void run();
     void loop();
     void publish(std::shared_ptr<const MeshChunks> set);
+    /// Rebuilds the dirty blocks around `focus` and publishes them as a partial set (when
+    /// they are not all of mPending).
+    void rebuildAroundFocus(const Focus& focus, uint64_t lastEdit);
     void rethrowWorkerError();
 
     double mRelTolerance;
@@ -153,9 +173,13 @@ class AsyncMesher {
     std::shared_ptr<const MeshChunks> mPublished;
     std::vector<std::pair<uint64_t, Clock::time_point>> mInFlight;  // edits not yet published
     std::vector<double> mDelaysMs;
+    // Edits with a focus whose surroundings are not yet published, and their delays.
+    std::vector<std::pair<uint64_t, Clock::time_point>> mFocusInFlight;
+    std::vector<double> mFocusDelaysMs;
     size_t mPasses = 0, mCancelled = 0;
     std::exception_ptr mError;
     std::atomic<bool> mCancel{false};      // a region change or stop is queued
+    std::atomic<bool> mNewer{false};       // any job is queued (interrupts the blocks left)
     std::unique_ptr<WorkerPool> mWorkers;  // rebuild loops of mPoly (null: serial)
     std::thread mThread;
 };

@@ -8,6 +8,7 @@
 #include "vsculpt/core/Mesh.h"
 #include "vsculpt/core/Zoom.h"
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -32,6 +33,9 @@ struct MeshChunks {
     bool complete = false;
     /// A coarse stand-in (half the resolution) shown while a new region is being built.
     bool preview = false;
+    /// The chunks around the last edit's focus (AsyncMesher::Focus, the tool) hold `edits`;
+    /// others may still show an earlier edit, until the complete set follows. Not complete.
+    bool partial = false;
 
     size_t index(int x, int y, int z) const {
         return (size_t(x) * chunksPerAxis + y) * chunksPerAxis + z;
@@ -44,8 +48,12 @@ struct MeshChunks {
 
 /// The polygonizer's chunks as a published set. Chunks whose version equals the one in
 /// `previous` (same region) share its mesh; only the others are extracted (on the calling
-/// thread: the mesher's, not the frame's). @pre `poly` has no unfinished blocks.
-std::shared_ptr<const MeshChunks> publishChunks(const Polygonizer& poly,
-                                                const MeshChunks* previous);
+/// thread: the mesher's, not the frame's). @pre `poly` has no unfinished blocks, or they are
+/// listed (sorted) in `stale`: then a chunk whose own blocks or the blocks beyond its far
+/// faces (whose edge vertices its triangles use) are among them keeps `previous`'s mesh and
+/// version, so the set is consistent but partial (`previous` of the same region required).
+std::shared_ptr<const MeshChunks> publishChunks(
+    const Polygonizer& poly, const MeshChunks* previous,
+    const std::vector<std::array<int, 3>>* stale = nullptr);
 
 }  // namespace vsculpt::core

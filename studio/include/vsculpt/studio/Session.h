@@ -195,13 +195,16 @@ class Session {
     void rebuildView();
     void journal(const core::JournalRecord& r);
     /// The mesh follows an edit: f changed within `radius` of the points, or in the box.
-    void meshChanged(std::span<const core::Vec3> points, double radius);
+    /// `focus`: where the tool is (the async mesher rebuilds around it first).
+    void meshChanged(std::span<const core::Vec3> points, double radius,
+                     std::optional<core::AsyncMesher::Focus> focus = std::nullopt);
     void meshChanged(const core::Aabb& box);
     /// Deferred meshing: an edit dirtied these blocks of mView (sorted).
     void markDirty(std::vector<std::array<int, 3>> blocks);
     /// A stroke's edit (a sample, or its held-back changes at the end) reaches the mesh; the
     /// time since t0 (placement included) is recorded as a sample time.
-    void strokeEdited(const core::EditResult& r, std::chrono::steady_clock::time_point t0);
+    void strokeEdited(const core::EditResult& r, std::chrono::steady_clock::time_point t0,
+                      std::optional<core::AsyncMesher::Focus> focus = std::nullopt);
     /// Takes the stroke in progress back (a refused sample, an error): nothing is journaled.
     void cancelStroke();
 

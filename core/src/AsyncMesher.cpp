@@ -313,11 +313,15 @@ void AsyncMesher::loop() {
                 }
                 if (focus && mOptions.focusFirst) rebuildAroundFocus(*focus, lastEdit);
                 // With the focus first, a newer edit interrupts the rest: its own focus comes
-                // before these blocks, which stay pending.
+                // before these blocks, which stay pending. Not twice in a row, so the rest
+                // trails by at most a pass (measured: interrupted every time, the whole mesh
+                // fell 200-400 ms behind in a stroke at zoom 5; docs/benchmarks.md, stop 30).
+                const bool interruptible = mOptions.focusFirst && focus && !mRestInterrupted;
                 mPending = mPoly
                                ->rebuildBlocks(mPending, mOptions.threaded,
-                                               mOptions.focusFirst ? &mNewer : &mCancel)
+                                               interruptible ? &mNewer : &mCancel)
                                .unfinished;
+                mRestInterrupted = interruptible && !mPending.empty() && !mCancel.load();
             }
             if (!mPending.empty()) {
                 std::lock_guard lock(mMutex);

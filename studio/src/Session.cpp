@@ -361,11 +361,11 @@ void Session::strokeSample(const Vec3& p, bool world) {
     try {
         const auto t0 = std::chrono::steady_clock::now();
         const EditResult r = mStroke->addSample(objectPos);
-        // The surface within two tool radii of the tool first: the tool's own change and the
-        // placement's adjustments beside it (docs/async-mesher.md).
-        strokeEdited(r, t0,
-                     AsyncMesher::Focus{
-                         objectPos, mSculpture->levels().level(mSize).diameterMm + r.supportMm});
+        // The surface within the tool's ball first, the placement's adjustments beside it
+        // after (docs/async-mesher.md).
+        strokeEdited(
+            r, t0,
+            AsyncMesher::Focus{objectPos, 0.5 * mSculpture->levels().level(mSize).diameterMm});
         mStrokeRecord.samples.push_back(objectPos);
     } catch (const std::logic_error& e) {
         // A refused sample cancels the whole stroke: no half-applied, unjournaled edit.

@@ -766,7 +766,7 @@ void BM_FrameLoopAsync(benchmark::State& state) {
                     const EditResult r = stroke.addSample(path[size_t(f)]);
                     // As the session posts a sample: the tool's surroundings first.
                     mesher.post(std::exchange(writes, {}), r.changedPoints, r.supportMm,
-                                AsyncMesher::Focus{path[size_t(f)], d + r.supportMm});
+                                AsyncMesher::Focus{path[size_t(f)], 0.5 * d});
                     const std::shared_ptr<const MeshChunks> set = mesher.published();
                     // What the renderer would upload this frame (the meshes exist already).
                     for (size_t i = 0; i < set->versions.size(); ++i)

@@ -20,9 +20,10 @@
 ///   equals a full rebuild of the sculpture after `edits` (partial == full).
 /// - The tool first: an edit posted with a Focus (where the tool is) has the dirty blocks
 ///   around it rebuilt first and published as a `partial` set (the chunks there current, the
-///   others as before); the rest follows, and a newer edit interrupts it (its blocks stay
-///   dirty and are rebuilt after the newer edit's own), so the surface under the tool does not
-///   wait for the adjustments a stroke makes further out.
+///   others as before); the rest follows, and a newer edit may interrupt it (its blocks stay
+///   dirty and are rebuilt after the newer edit's own; never two passes in a row, so the rest
+///   trails by at most a pass): the surface under the tool waits less for the adjustments a
+///   stroke makes further out.
 ///
 /// Threads: post(), setRegion(), published(), waitIdle() and verify() may be called from any
 /// one thread (the one editing the sculpture). The mesher thread touches only its replica.
@@ -158,6 +159,7 @@ class AsyncMesher {
     std::unique_ptr<Sculpture> mReplica;       // mesher thread only (after construction)
     std::unique_ptr<Polygonizer> mPoly;        // mesher thread only
     std::vector<std::array<int, 3>> mPending;  // dirty blocks of mPoly, mesher thread only
+    bool mRestInterrupted = false;             // the last pass's rest was (mesher thread)
 
     mutable std::mutex mMutex;
     std::condition_variable mWake;  // jobs queued or stop

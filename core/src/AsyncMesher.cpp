@@ -182,9 +182,8 @@ void AsyncMesher::publish(std::shared_ptr<const MeshChunks> set) {
         std::lock_guard lock(mMutex);
         mPublished = std::move(set);
         if (mOptions.onPublish) ++mCallbacksRunning;
-        // A partial set shows the surroundings of every focus up to its edit (each pass
-        // rebuilds around the latest; the earlier ones' were published by earlier passes or
-        // lie in the blocks rebuilt now).
+        // A partial set shows the surroundings of every focus up to its edit (a pass rebuilds
+        // around all of its edits' focuses; earlier edits' were shown by earlier sets).
         const auto now = Clock::now();
         auto takeDelays = [&](std::vector<std::pair<uint64_t, Clock::time_point>>& inFlight,
                               std::vector<double>& delays) {
@@ -214,33 +213,38 @@ void AsyncMesher::publish(std::shared_ptr<const MeshChunks> set) {
     mIdle.notify_all();
 }
 
-void AsyncMesher::rebuildAroundFocus(const Focus& focus, uint64_t lastEdit) {
-    // Chunks within the focus radius read blocks up to a chunk and a block beyond it
+bool AsyncMesher::rebuildAroundFocus(const std::vector<Focus>& focuses, uint64_t lastEdit) {
+    // A set can be published only on top of one of this region.
+    const std::shared_ptr<const MeshChunks> before = mPublished;  // written only here
+    if (before->region != mPoly->region() || before->preview) return false;
+    // Chunks touching a focus ball read blocks up to a chunk and a block beyond it
     // (publishChunks): those must be rebuilt for the chunks to be published now.
     const double margin = (Polygonizer::kChunkCells + Polygonizer::kBlockCells) *
                           mPoly->region().spacingMm * std::sqrt(3.0);
-    const Polygonizer::BlockList around =
-        mPoly->blocksNear(std::span<const Vec3>(&focus.centre, 1), focus.radiusMm + margin);
+    std::vector<Vec3> centres;
+    double radius = 0;
+    for (const Focus& f : focuses) {
+        centres.push_back(f.centre);
+        radius = std::max(radius, f.radiusMm);
+    }
+    const Polygonizer::BlockList around = mPoly->blocksNear(centres, radius + margin);
     Polygonizer::BlockList near, rest;
     std::set_intersection(mPending.begin(), mPending.end(), around.begin(), around.end(),
                           std::back_inserter(near));
-    if (near.empty() || near.size() == mPending.size()) return;  // one pass does it all
+    if (near.empty() || near.size() == mPending.size()) return false;  // one pass does it all
     std::set_difference(mPending.begin(), mPending.end(), near.begin(), near.end(),
                         std::back_inserter(rest));
     Polygonizer::BlockList unfinished =
         mPoly->rebuildBlocks(near, mOptions.threaded, &mCancel).unfinished;
-    if (!unfinished.empty()) {  // a region change: the pass ends anyway
-        Polygonizer::mergeBlocks(rest, std::move(unfinished));
-        mPending = std::move(rest);
-        return;
-    }
-    const std::shared_ptr<const MeshChunks> before = mPublished;  // written only here
-    if (before->region == mPoly->region() && !before->preview) {
+    const bool done = unfinished.empty();  // else a region change stopped it
+    Polygonizer::mergeBlocks(rest, std::move(unfinished));
+    if (done) {
         auto set = std::const_pointer_cast<MeshChunks>(publishChunks(*mPoly, before.get(), &rest));
         set->edits = lastEdit;
         publish(std::move(set));
     }
     mPending = std::move(rest);
+    return done;
 }
 
 void AsyncMesher::run() {
@@ -304,19 +308,21 @@ void AsyncMesher::loop() {
                 mPoly->useWorkers(mWorkers.get());
                 mPending = mPoly->rebuildAll(mOptions.threaded, &mCancel).unfinished;
             } else {
-                std::optional<Focus> focus;  // the latest edit's
+                std::vector<Focus> focuses;  // of the pass's edits
                 for (const Job* j : dirty) {
                     Polygonizer::mergeBlocks(
                         mPending, j->points.empty() ? mPoly->blocksTouching(j->box)
                                                     : mPoly->blocksNear(j->points, j->radius));
-                    if (j->focus) focus = j->focus;
+                    if (j->focus) focuses.push_back(*j->focus);
                 }
-                if (focus && mOptions.focusFirst) rebuildAroundFocus(*focus, lastEdit);
-                // With the focus first, a newer edit interrupts the rest: its own focus comes
-                // before these blocks, which stay pending. Not twice in a row, so the rest
-                // trails by at most a pass (measured: interrupted every time, the whole mesh
-                // fell 200-400 ms behind in a stroke at zoom 5; docs/benchmarks.md, stop 30).
-                const bool interruptible = mOptions.focusFirst && focus && !mRestInterrupted;
+                const bool shown = mOptions.focusFirst && !focuses.empty() &&
+                                   rebuildAroundFocus(focuses, lastEdit);
+                // Once the tool's surroundings are shown, a newer edit interrupts the rest:
+                // its own surroundings come before these blocks, which stay pending. Not twice
+                // in a row, so the rest trails by at most a pass (measured: interrupted every
+                // time, the whole mesh fell 200-400 ms behind in a stroke at zoom 5;
+                // docs/benchmarks.md, stop 30).
+                const bool interruptible = shown && !mRestInterrupted;
                 mPending = mPoly
                                ->rebuildBlocks(mPending, mOptions.threaded,
                                                interruptible ? &mNewer : &mCancel)

@@ -149,9 +149,9 @@ class AsyncMesher {
     void run();
     void loop();
     void publish(std::shared_ptr<const MeshChunks> set);
-    /// Rebuilds the dirty blocks around `focus` and publishes them as a partial set (when
-    /// they are not all of mPending).
-    void rebuildAroundFocus(const Focus& focus, uint64_t lastEdit);
+    /// Rebuilds the dirty blocks around the focuses and publishes them as a partial set, when
+    /// they are not all of mPending; returns whether it did.
+    bool rebuildAroundFocus(const std::vector<Focus>& focuses, uint64_t lastEdit);
     void rethrowWorkerError();
 
     double mRelTolerance;

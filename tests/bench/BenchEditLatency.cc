@@ -715,8 +715,8 @@ BENCHMARK(BM_FrameLoop)
 /// per frame (GL upload and draw excluded, as above), the delay from post() to the first
 /// published set holding the sample, the delay to the first set showing the surface around
 /// the tool current (post_to_tool_published_: a partial set, AsyncMesher::Focus), and how many
-/// rebuild passes the stroke took (fewer than samples: coalesced). VSCULPT_BENCH_FOCUS_FIRST=0
-/// turns the tool-first order off (A/B).
+/// rebuild passes the stroke took (fewer than samples: coalesced). VSCULPT_BENCH_FOCUS_FIRST=1
+/// turns the tool-first order on (AsyncMesher::Options::focusFirst; A/B).
 /// The mesher's threads for A/B runs: VSCULPT_BENCH_MESHER_THREADS=N (the mesher's own
 /// included; stop 21 used every core but one), VSCULPT_BENCH_MESHER_NICE=N (the helpers' nice
 /// steps below the frame; default AsyncMesher::kHelperNice, 0 = the same priority).

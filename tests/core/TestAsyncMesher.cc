@@ -171,6 +171,7 @@ TEST(AsyncMesher, TheSurfaceAroundTheToolIsPublishedFirstAndCompleteSetsStayExac
     std::mutex m;
     std::vector<Set> sets;
     AsyncMesher::Options o;
+    o.focusFirst = true;
     o.onPublish = [&](const MeshChunks& c) {
         std::vector<uint64_t> h = chunkHashes(c);
         std::lock_guard lock(m);

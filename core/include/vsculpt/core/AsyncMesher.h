@@ -18,12 +18,11 @@
 ///   of the new region, then the new region at full resolution.
 /// - Exactness: a set is published `complete` only when no dirty block is left; it then
 ///   equals a full rebuild of the sculpture after `edits` (partial == full).
-/// - The tool first: an edit posted with a Focus (where the tool is) has the dirty blocks
-///   around it rebuilt first and published as a `partial` set (the chunks there current, the
-///   others as before); the rest follows, and a newer edit may interrupt it (its blocks stay
-///   dirty and are rebuilt after the newer edit's own; never two passes in a row, so the rest
-///   trails by at most a pass): the surface under the tool waits less for the adjustments a
-///   stroke makes further out.
+/// - The tool first (Options::focusFirst, off by default): an edit posted with a Focus (where
+///   the tool is) has the dirty blocks around it rebuilt first and published as a `partial`
+///   set (the chunks there current, the others as before); the rest follows, and a newer edit
+///   may interrupt it (its blocks stay dirty and are rebuilt after the newer edit's own; never
+///   two passes in a row, so the rest trails by at most a pass).
 ///
 /// Threads: post(), setRegion(), published(), waitIdle() and verify() may be called from any
 /// one thread (the one editing the sculpture). The mesher thread touches only its replica.
@@ -71,8 +70,10 @@ class AsyncMesher {
         /// a session that never takes them).
         size_t maxKeptDelays = size_t(1) << 16;
         bool preview = true;  ///< publish a half-resolution preview of a new region first
-        /// Rebuild and publish the blocks around a posted Focus first (see above).
-        bool focusFirst = true;
+        /// Rebuild and publish the blocks around a posted Focus first (see above). Off by
+        /// default: measured, the surface under the tool came 20 % sooner and the whole mesh
+        /// 25-30 % later, and partial sets can show seams (docs/async-mesher.md, stop 30).
+        bool focusFirst = false;
         /// Called on the mesher thread with every set it publishes, after publishing (tests;
         /// a host that wants to wake its frame loop); waitIdle() also waits for it. Must not
         /// call into the mesher.

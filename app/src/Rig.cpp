@@ -284,14 +284,7 @@ std::string Rig::saveNow() {
 }
 
 std::optional<std::string> Rig::pollSave(bool wait) {
-    bool failed = false;
-    std::optional<std::string> outcome = mStudio->pollSave(wait, &failed);
-    // A failed save leaves every edit in the journal: a warning, not an error.
-    if (outcome && failed)
-        spdlog::warn("{}", *outcome);
-    else if (outcome)
-        spdlog::info("{}", *outcome);
-    return outcome;
+    return mStudio->pollSave(wait);  // logged by the session
 }
 
 std::optional<std::string> Rig::pollBackgroundWork(bool wait) {

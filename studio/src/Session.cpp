@@ -42,13 +42,7 @@ struct Session::BackgroundSave {
 Session::~Session() {
     // A snapshot being written is finished, so the journal does not keep what it holds.
     try {
-        bool failed = false;
-        if (auto outcome = pollSave(true, &failed)) {
-            if (failed)
-                spdlog::warn("{}", *outcome);
-            else
-                spdlog::info("{}", *outcome);
-        }
+        pollSave(true);
     } catch (const std::exception& e) {
         spdlog::warn("{}", e.what());
     }
@@ -562,10 +556,23 @@ bool Session::saveInBackground() {
 
 std::optional<std::string> Session::pollSave(bool wait, bool* failed) {
     if (!mSaving || (!wait && !mSaving->done.load(std::memory_order_acquire))) return std::nullopt;
+    bool bad = true;
+    std::string outcome = finishSave(bad);
+    // Logged here, whoever takes it (a window's poll, a save or a close waiting for it): a
+    // failure is a warning, the journal keeping every edit.
+    if (bad)
+        spdlog::warn("{}", outcome);
+    else
+        spdlog::info("{}", outcome);
+    if (failed) *failed = bad;
+    return outcome;
+}
+
+std::string Session::finishSave(bool& failed) {
     mSaving->thread.join();
     const std::unique_ptr<BackgroundSave> job = std::move(mSaving);
     const std::string dir = mProjectDir->string();
-    if (failed) *failed = true;
+    failed = true;
     if (!job->error.empty())
         return "saving " + dir + " failed: " + job->error + "; the journal keeps every edit";
     try {
@@ -576,7 +583,7 @@ std::optional<std::string> Session::pollSave(bool wait, bool* failed) {
         return "saved " + dir + ", but the journal did not restart: " + e.what();
     }
     mSnapshotSequence = job->sequence;
-    if (failed) *failed = false;
+    failed = false;
     return "saved " + dir;
 }
 

@@ -125,7 +125,8 @@ class Session {
     /// the edits made meanwhile. Returns what happened, for the user: "saved DIR", or why it
     /// failed (the journal keeps every edit either way); nothing while the file is being written
     /// or when no save was started. `wait` waits for it; `failed` tells whether it failed (or
-    /// the journal did not restart). save() and the destructor wait too.
+    /// the journal did not restart). Also logged (a failure as a warning). save() and the
+    /// destructor wait too.
     std::optional<std::string> pollSave(bool wait = false, bool* failed = nullptr);
     /// A background save is under way (its outcome not yet taken by pollSave).
     bool saving() const { return mSaving != nullptr; }
@@ -244,6 +245,8 @@ class Session {
     uint64_t mSnapshotSequence = 0;  // the last edit the project's snapshot holds
     struct BackgroundSave;
     std::unique_ptr<BackgroundSave> mSaving;  // saveInBackground's, until pollSave takes it
+    /// pollSave's work once the thread is done: joins it, restarts the journal.
+    std::string finishSave(bool& failed);
     std::string mRecoveryWarning;
     size_t mRecovered = 0;
 };

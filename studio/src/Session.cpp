@@ -537,8 +537,8 @@ bool Session::saveInBackground() {
     job->sequence = mSequence;
     job->journalBytes = mJournal->bytes();
     BackgroundSave* j = job.get();
-    // Copies for the thread (at 1e5 skeletons 0.4 ms for the sculpture, 3 ms for the history:
-    // docs/benchmarks.md); the live ones go on changing.
+    // Copies for the thread (at 1e5 skeletons 0.2-0.4 ms for the sculpture, 0.2 ms for the
+    // history, whose records are shared: docs/benchmarks.md); the live ones go on changing.
     j->thread = std::thread([j, dir = *mProjectDir, configJson = projectConfigJson(mConfig),
                              sculpture = std::unique_ptr<const Sculpture>(mSculpture->clone()),
                              history = mHistory] {

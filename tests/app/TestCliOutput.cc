@@ -95,7 +95,10 @@ TEST(CliOutput, QuietKeepsOnlyErrorsAndWarnings) {
     // --stats - stays pure JSON whatever the level.
     r = run({"play", kSnowman, "--stats", "-", "-q"});
     ASSERT_EQ(r.code, 0) << r.err;
-    EXPECT_NO_THROW((void)nlohmann::json::parse(r.out)) << r.out;
+    EXPECT_NO_THROW({
+        const nlohmann::json parsed = nlohmann::json::parse(r.out);
+        EXPECT_FALSE(parsed.is_null());
+    }) << r.out;
     fs::remove_all(dir);
 }
 

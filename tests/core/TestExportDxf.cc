@@ -220,7 +220,9 @@ TEST_F(DxfFixture, ExportMeshWritesThroughTheSameWriter) {
     int faces = 0;
     for (const auto& [code, value] : groupCodes(path)) {
         faces += code == 0 && value == "3DFACE";
-        if (code == 8) EXPECT_EQ(value, "sculpture");
+        if (code == 8) {
+            EXPECT_EQ(value, "sculpture");
+        }
     }
     EXPECT_EQ(faces, 4);
 }

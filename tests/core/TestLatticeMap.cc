@@ -70,7 +70,9 @@ TEST(LatticeMap, LookupsOfAbsentVerticesMixedWithInsertionsStayExact) {
         const auto it = reference.find(v);
         const int* found = map.find(v);
         ASSERT_EQ(found != nullptr, it != reference.end()) << i;
-        if (found) ASSERT_EQ(*found, it->second) << i;
+        if (found) {
+            ASSERT_EQ(*found, it->second) << i;
+        }
     }
     EXPECT_EQ(map.size(), reference.size());
 }

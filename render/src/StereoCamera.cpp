@@ -44,14 +44,25 @@ double eyeShiftNdc(const StereoDisplay& d, double depthMm, Eye eye) {
 }
 
 glm::dmat4 frameFromFront(const glm::dvec3& boxMin, const glm::dvec3& boxMax, double aspect,
-                          StereoDisplay& d) {
+                          StereoDisplay& d, FrameFit fit) {
     const bool empty = boxMin.x > boxMax.x;
     const glm::dvec3 center = empty ? glm::dvec3(0) : 0.5 * (boxMin + boxMax);
     const double radius = empty ? 50.0 : std::max(1.0, 0.5 * glm::length(boxMax - boxMin));
     if (!(d.verticalFovDeg > 0 && d.verticalFovDeg < 180)) d.verticalFovDeg = 40;
     d.aspect = aspect;
-    const double halfFov = glm::radians(d.verticalFovDeg) * 0.5 * std::min(1.0, aspect);
-    const double distance = 1.1 * radius / std::sin(halfFov);
+    double distance;
+    if (fit == FrameFit::Box && !empty) {
+        // The box's front face is the nearest to the eye, so it spreads widest in the
+        // picture: its corners at depth distance - h.y must lie within the picture shrunk by
+        // the margin, sideways (tan of the half angle times the aspect) and up and down.
+        constexpr double kInside = 0.92;  // 4 % of the picture's size left at each side
+        const glm::dvec3 h = 0.5 * (boxMax - boxMin);
+        const double tanUp = std::tan(glm::radians(d.verticalFovDeg) * 0.5);
+        distance = h.y + std::max({h.x / (kInside * tanUp * aspect), h.z / (kInside * tanUp), 1.0});
+    } else {
+        const double halfFov = glm::radians(d.verticalFovDeg) * 0.5 * std::min(1.0, aspect);
+        distance = 1.1 * radius / std::sin(halfFov);
+    }
     d.focalDistanceMm = distance;
     d.nearMm = std::max(1.0, distance - 2 * radius);
     d.farMm = distance + 2 * radius;

@@ -142,6 +142,41 @@ TEST(RayTrace, SilhouettesAreAntialiased) {
     EXPECT_LT(blended, grey / 4);
 }
 
+// A still shows the sculpture filling the picture (users read a sculpture lost in a quarter of
+// the frame as a broken framing): the tall sphere-and-bar scene turned upright spans nearly the
+// whole height of a portrait picture, and no object pixel touches the border.
+TEST(RayTrace, AStillFillsThePictureWithTheSculpture) {
+    core::Mesh mesh = sculptureMesh();
+    for (Vec3& p : mesh.positions)
+        p = Vec3(p.z, p.y, p.x);  // the bar (along x) upright
+    RayTraceOptions o;
+    o.width = 80;
+    o.height = 120;
+    o.aoSamples = 1;
+    o.shadowSamples = 1;
+    const Image img = rayTrace(mesh, o);
+    int top = img.height, bottom = -1, left = img.width, right = -1;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            const uint8_t* p = img.pixel(x, y);
+            if (p[0] == kBackground[0] && p[1] == kBackground[1] && p[2] == kBackground[2])
+                continue;
+            top = std::min(top, y);
+            bottom = std::max(bottom, y);
+            left = std::min(left, x);
+            right = std::max(right, x);
+        }
+    ASSERT_GE(bottom, 0) << "nothing drawn";
+    EXPECT_GT(top, 0);
+    EXPECT_LT(bottom, img.height - 1);
+    EXPECT_GT(left, 0);
+    EXPECT_LT(right, img.width - 1);
+    // Measured 0.82 of the height: the box's front face would span 0.92, the bar's rounded ends
+    // lie deeper than that face. The sphere fit the still had before draws it about 0.46 tall
+    // (computed: distance 1.1 R / sin(20 deg * 2/3) = 322 mm for R = 67.5).
+    EXPECT_GE(double(bottom - top + 1) / img.height, 0.78);
+}
+
 TEST(RayTrace, StillsAreDeterministicAndShaded) {
     const core::Mesh mesh = sculptureMesh();
     RayTraceOptions o;

@@ -14,6 +14,40 @@ glm::dmat4 someHeadPose() {
     return glm::rotate(m, glm::radians(-10.0), glm::dvec3(1, 0, 0));
 }
 
+// Stills frame the box itself: every corner inside the picture less its 4 % margins, and the
+// outline on those margins along one axis (so it fills the picture); the windows' sphere fit,
+// which must keep a turning sculpture in view, draws the same box smaller. Tall, wide, deep and
+// flat boxes off the origin, in portrait, square and wide pictures.
+TEST(StereoCamera, AStillFramesTheBoxItselfTheWindowsItsBoundingSphere) {
+    const glm::dvec3 sizes[] = {{80, 80, 160}, {200, 40, 50}, {40, 200, 40}, {60, 60, 0.5}};
+    for (const glm::dvec3& size : sizes)
+        for (double aspect : {2.0 / 3.0, 1.0, 16.0 / 9.0}) {
+            const glm::dvec3 lo = glm::dvec3(-3, 7, 11) - 0.5 * size, hi = lo + size;
+            double extent[2] = {0, 0};  // largest |NDC| over the corners: box fit, sphere fit
+            for (FrameFit fit : {FrameFit::Box, FrameFit::Sphere}) {
+                StereoDisplay d;
+                d.ipdMm = 0;
+                const glm::dmat4 head = frameFromFront(lo, hi, aspect, d, fit);
+                const EyeView eye = stereoEyes(head, d)[0];
+                double& e = extent[fit == FrameFit::Box ? 0 : 1];
+                for (int c = 0; c < 8; ++c) {
+                    const glm::dvec3 p(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y,
+                                       c & 4 ? hi.z : lo.z);
+                    const glm::dvec3 ndc = projectToNdc(eye, p);
+                    EXPECT_GT(ndc.z, -1) << "in front of the near plane";
+                    EXPECT_LT(ndc.z, 1) << "before the far plane";
+                    if (fit == FrameFit::Box) {
+                        EXPECT_LE(std::abs(ndc.x), 0.92 + 1e-9) << size.x << " " << aspect;
+                        EXPECT_LE(std::abs(ndc.y), 0.92 + 1e-9) << size.x << " " << aspect;
+                    }
+                    e = std::max({e, std::abs(ndc.x), std::abs(ndc.y)});
+                }
+            }
+            EXPECT_NEAR(extent[0], 0.92, 1e-9) << size.x << " " << size.z << " " << aspect;
+            EXPECT_LT(extent[1], extent[0]) << size.x << " " << size.z << " " << aspect;
+        }
+}
+
 TEST(StereoCamera, EyesAreOneInterpupillaryDistanceApartAlongTheHeadsX) {
     StereoDisplay d;
     d.ipdMm = 64.5;

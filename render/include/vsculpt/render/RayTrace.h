@@ -53,8 +53,9 @@ struct RayTraceOptions {
     std::function<void(int rowsDone)> progress;
 };
 
-/// Renders the mesh from the front, like renderShot(mono). Pixels where no surface is hit
-/// have the background colour.
+/// Renders the mesh from the front, as renderShot(mono) sees it but framed on the box itself
+/// (FrameFit::Box: the sculpture fills the picture). Pixels where no surface is hit have the
+/// background colour.
 Image rayTrace(const core::Mesh& mesh, const RayTraceOptions& options);
 
 }  // namespace vsculpt::render

@@ -34,12 +34,21 @@ enum class Eye { Left = 0, Right = 1 };
 /// eyes) in the world. A mono view is the same with ipdMm = 0.
 std::array<EyeView, 2> stereoEyes(const glm::dmat4& worldFromHead, const StereoDisplay& display);
 
-/// The head pose and display that frame a box from the front (-y looking +y, z up): the
-/// box's bounding sphere fits the view, and the zero-parallax plane passes through its
-/// centre. `display` keeps its IPD and field of view; aspect, focal distance and clip planes
-/// are set.
+/// What frameFromFront fits into the view.
+enum class FrameFit {
+    /// The box's bounding sphere, with a tenth to spare: the windows, where the sculpture
+    /// turns in the view and must stay in it at every angle.
+    Sphere,
+    /// The box as seen from the front, its outline 4 % inside the picture's nearer edges:
+    /// stills, where the sculpture should fill the picture.
+    Box,
+};
+
+/// The head pose and display that frame a box from the front (-y looking +y, z up), fitted
+/// as `fit` says, with the zero-parallax plane through its centre. `display` keeps its IPD
+/// and field of view; aspect, focal distance and clip planes are set.
 glm::dmat4 frameFromFront(const glm::dvec3& boxMin, const glm::dvec3& boxMax, double aspect,
-                          StereoDisplay& display);
+                          StereoDisplay& display, FrameFit fit = FrameFit::Sphere);
 
 /// How far (in the eye's NDC x, image width = 2) a point straight ahead of the head at
 /// `depthMm` from the eyes is drawn away from where a mono camera would draw it, in `eye`'s

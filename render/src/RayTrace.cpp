@@ -119,7 +119,7 @@ Image rayTrace(const core::Mesh& mesh, const RayTraceOptions& o) {
     StereoDisplay d;
     d.ipdMm = 0;
     const glm::dmat4 worldFromHead =
-        frameFromFront(box.min, box.max, double(o.width) / o.height, d, FrameFit::Box);
+        frameFromFront(box.min, box.max, double(o.width) / o.height, d, o.fit);
     const EyeView eye = stereoEyes(worldFromHead, d)[0];
     const glm::dmat4 worldFromClip = glm::inverse(eye.clipFromView * eye.viewFromWorld);
     const double radius = box.empty() ? 50 : 0.5 * glm::length(box.max - box.min);

@@ -63,7 +63,7 @@ Image renderShot(const core::Mesh& mesh, const ShotOptions& o) {
     StereoDisplay d = o.display;
     const bool sbs = o.mode == StereoMode::SideBySide;
     const glm::dmat4 worldFromHead =
-        frameFromFront(box.min, box.max, double(sbs ? o.width / 2 : o.width) / o.height, d);
+        frameFromFront(box.min, box.max, double(sbs ? o.width / 2 : o.width) / o.height, d, o.fit);
     if (o.mode == StereoMode::Mono) d.ipdMm = 0;
     const auto eyes = stereoEyes(worldFromHead, d);
 

@@ -102,28 +102,33 @@ TEST(Shot, AnaglyphChannelsCarryDifferentEyes) {
 // The ray tracer frames the mesh exactly like the rasterizer: their silhouettes agree.
 TEST(Shot, RayTracedSilhouetteMatchesTheRasterizedOne) {
     const core::Mesh mesh = sculptureMesh();
-    ShotOptions so;
-    so.width = 320;
-    so.height = 240;
-    const Image raster = renderShot(mesh, so);
-    RayTraceOptions ro;
-    ro.width = 320;
-    ro.height = 240;
-    ro.aoSamples = 1;
-    ro.shadowSamples = 1;
-    const Image traced = rayTrace(mesh, ro);
-    size_t agree = 0, fg = 0;
-    for (int y = 0; y < raster.height; ++y)
-        for (int x = 0; x < raster.width; ++x) {
-            const bool a = foreground(raster.pixel(x, y), 0) || foreground(raster.pixel(x, y), 2);
-            const uint8_t* t = traced.pixel(x, y);
-            const bool b =
-                !(t[0] == kBackground[0] && t[1] == kBackground[1] && t[2] == kBackground[2]);
-            agree += a == b;
-            fg += a;
-        }
-    EXPECT_GT(fg, size_t(raster.width * raster.height / 12));
-    EXPECT_GT(double(agree) / (raster.width * raster.height), 0.99);
+    for (FrameFit fit : {FrameFit::Sphere, FrameFit::Box}) {
+        ShotOptions so;
+        so.width = 320;
+        so.height = 240;
+        so.fit = fit;
+        const Image raster = renderShot(mesh, so);
+        RayTraceOptions ro;
+        ro.width = 320;
+        ro.height = 240;
+        ro.aoSamples = 1;
+        ro.shadowSamples = 1;
+        ro.fit = fit;
+        const Image traced = rayTrace(mesh, ro);
+        size_t agree = 0, fg = 0;
+        for (int y = 0; y < raster.height; ++y)
+            for (int x = 0; x < raster.width; ++x) {
+                const bool a =
+                    foreground(raster.pixel(x, y), 0) || foreground(raster.pixel(x, y), 2);
+                const uint8_t* t = traced.pixel(x, y);
+                const bool b =
+                    !(t[0] == kBackground[0] && t[1] == kBackground[1] && t[2] == kBackground[2]);
+                agree += a == b;
+                fg += a;
+            }
+        EXPECT_GT(fg, size_t(raster.width * raster.height / 12)) << int(fit);
+        EXPECT_GT(double(agree) / (raster.width * raster.height), 0.99) << int(fit);
+    }
 }
 
 }  // namespace

@@ -48,14 +48,15 @@ struct RayTraceOptions {
     /// Frame this box (object mm) instead of the mesh's bounds: a turntable keeps one framing
     /// for every frame, so the sculpture turns in place instead of jumping.
     std::optional<core::Aabb> frameBox;
+    /// Stills fill the picture with the box (renderShot's default is the window's sphere).
+    FrameFit fit = FrameFit::Box;
     /// Told the number of finished rows now and then (from worker threads, one call at a
     /// time; the last call reports every row). For progress bars.
     std::function<void(int rowsDone)> progress;
 };
 
-/// Renders the mesh from the front, as renderShot(mono) sees it but framed on the box itself
-/// (FrameFit::Box: the sculpture fills the picture). Pixels where no surface is hit have the
-/// background colour.
+/// Renders the mesh from the front through renderShot(mono)'s projection for the same fit.
+/// Pixels where no surface is hit have the background colour.
 Image rayTrace(const core::Mesh& mesh, const RayTraceOptions& options);
 
 }  // namespace vsculpt::render

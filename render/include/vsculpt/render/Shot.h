@@ -36,14 +36,16 @@ struct Image {
 struct ShotOptions {
     int width = 960, height = 540;  ///< the whole image (both eyes for side-by-side)
     StereoMode mode = StereoMode::Mono;
-    StereoDisplay display;  ///< IPD etc.; fov, aspect and focal distance are set here
+    StereoDisplay display;            ///< IPD etc.; fov, aspect and focal distance are set here
+    FrameFit fit = FrameFit::Sphere;  ///< the window's framing, as `play --shot` shows it
 };
 
 /// The RGB of the background (so tests and tools can tell the sculpture from it).
 inline constexpr uint8_t kBackground[3] = {26, 28, 38};
 
-/// Frames the mesh from the front (-y looking +y, z up) at a distance that fits its bounding
-/// sphere, with the zero-parallax plane through its centre. Object space = world space.
+/// Frames the mesh from the front (-y looking +y, z up) at a distance that fits it as
+/// `options.fit` says (frameFromFront), with the zero-parallax plane through its centre.
+/// Object space = world space.
 Image renderShot(const core::Mesh& mesh, const ShotOptions& options);
 
 /// Throws RenderError naming the path when it cannot be written.

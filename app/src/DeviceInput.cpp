@@ -11,6 +11,7 @@
 #include "vsculpt/devices/SpaceMouse.h"
 #include "vsculpt/devices/WacomLegacy.h"
 
+#include <spdlog/spdlog.h>
 #include <glm/gtc/quaternion.hpp>
 
 #include <algorithm>
@@ -322,11 +323,17 @@ struct DeviceInput::State {
         if (sample->hasButtons) {
             const uint32_t pressed = sample->buttons & ~m.buttons;
             m.buttons = sample->buttons;
-            if (pressed & 1u) {
-                const core::Vec3 tool = toolWorld.value_or(core::Vec3(0.0));
-                interaction.step(session.objectPose().inverse().apply(tool));
+            // A refused command (zooming in at a point the lattices cannot hold: the tracker's
+            // pose is garbage) is the user's to see, not the end of the session.
+            try {
+                if (pressed & 1u) {
+                    const core::Vec3 tool = toolWorld.value_or(core::Vec3(0.0));
+                    interaction.step(session.objectPose().inverse().apply(tool));
+                }
+                if (pressed & 2u) interaction.cycleTool();
+            } catch (const studio::SessionError& err) {
+                spdlog::warn("3D mouse button: {}", err.what());
             }
-            if (pressed & 2u) interaction.cycleTool();
         }
     }
 

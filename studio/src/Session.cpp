@@ -308,6 +308,12 @@ void Session::setSize(int level) {
 
 void Session::setZoom(int zoom, const Vec3& center) {
     if (zoom < 1 || zoom > kZoomLevels) throw SessionError("zoom level outside 1..5");
+    if (zoom != 1 && !core::isUsablePoint(center)) {
+        char where[160];
+        std::snprintf(where, sizeof where, "(%g, %g, %g)", center.x, center.y, center.z);
+        throw SessionError(std::string("cannot zoom in at ") + where +
+                           ": not a point within 1e6 mm of the origin");
+    }
     endStroke();
     mZoom = zoom;
     mZoomCenter = zoom == 1 ? mConfig.sphereCenterMm : center;

@@ -129,6 +129,24 @@ TEST(Session, SizesFollowTheZoomTable) {
     EXPECT_THROW(s.stroke({Vec3(0, 0, 30)}, false), SessionError);
 }
 
+TEST(Session, AZoomAtAPointTheLatticesCannotHoldIsRefusedChangingNothing) {
+    // A device's garbage pose reaches setZoom through the select tool's step: a refusal the
+    // input layers report (SessionError), never a std::invalid_argument that ends the program.
+    Session s(smallConfig());
+    s.setSize(5);
+    s.setZoom(3, Vec3(0, 0, 30));
+    const core::GridRegion before = s.region();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (const Vec3& c : {Vec3(1e300, 0, 0), Vec3(0, -1e6, 0), Vec3(nan, 0, 0)}) {
+        EXPECT_THROW(s.setZoom(4, c), SessionError) << c.x << " " << c.y;
+        EXPECT_EQ(s.zoom(), 3);
+        EXPECT_EQ(s.size(), 5);
+        EXPECT_EQ(s.region(), before);
+    }
+    EXPECT_NO_THROW(s.setZoom(1, Vec3(nan, nan, nan)));  // zoom 1 ignores the centre
+    EXPECT_EQ(s.zoom(), 1);
+}
+
 TEST(Session, ARefusedSampleCancelsTheWholeStroke) {
     Session s(smallConfig());
     const uint64_t before = viewHash(s);

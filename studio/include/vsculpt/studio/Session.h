@@ -82,6 +82,8 @@ class Session {
     int size() const { return mSize; }
     /// Zoom level z (1..5) centred on an object-space point (ignored at zoom 1). If the
     /// current size is not offered at the new zoom, the nearest offered size is taken.
+    /// Throws SessionError, changing nothing, for a level outside 1..5 or a centre that is not
+    /// a usable point (core::isUsablePoint: a device's garbage pose, a script's 1e300).
     void setZoom(int zoom, const core::Vec3& center);
     int zoom() const { return mZoom; }
     void setObjectPose(const core::RigidTransform& worldFromObject);

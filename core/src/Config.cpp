@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/core/Config.h"
 
+#include "vsculpt/core/JsonNesting.h"
 #include "vsculpt/core/NearestName.h"
 #include "vsculpt/core/PrintableText.h"
 
@@ -308,6 +309,7 @@ const std::vector<DeviceMatchConfig>& knownDeviceMatches() {
 }
 
 SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceName) {
+    if (const auto deep = jsonNestingBeyond(jsonText)) throw ConfigError(sourceName + ":" + *deep);
     json root;
     try {
         root = json::parse(jsonText, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);

@@ -1,5 +1,7 @@
 #include "vsculpt/studio/SketchDocument.h"
 
+#include "vsculpt/core/JsonNesting.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -1217,6 +1219,7 @@ std::string SketchDocument::toJson() const {
 }
 
 SketchDocument SketchDocument::fromJson(const std::string& textIn, const SketchParams& params) {
+    if (const auto deep = core::jsonNestingBeyond(textIn)) throw std::invalid_argument(*deep);
     json j;
     try {
         j = json::parse(textIn);

@@ -3,6 +3,7 @@
 
 #include "vsculpt/studio/SketchSolids.h"
 
+#include "vsculpt/core/JsonNesting.h"
 #include "vsculpt/core/WriteFileAtomically.h"
 
 #include <glm/gtc/quaternion.hpp>
@@ -137,6 +138,8 @@ void Studio::loadSketchFile() {
     std::ostringstream text;
     text << in.rdbuf();
     const std::string where = mFile->string() + ": ";
+    if (const auto deep = core::jsonNestingBeyond(text.str()))
+        throw std::invalid_argument(mFile->string() + ":" + *deep);
     nlohmann::json j;
     try {
         j = nlohmann::json::parse(text.str());

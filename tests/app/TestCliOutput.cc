@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // What the program says and where: levels (--quiet, --verbose) through spdlog, pure machine
 // output on stdout, rounded times, progress bars, numbers people can read, turntables.
+#include "../TestFiles.h"
 #include "vsculpt/app/Cli.h"
 #include "vsculpt/app/Log.h"
 #include "vsculpt/app/ProgressBar.h"
@@ -48,10 +49,7 @@ fs::path scratchDir(const std::string& name) {
     return d;
 }
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
+using vsculpt::test::readFile;
 
 // Width and height from a PNG's IHDR chunk (bytes 16..23, big-endian).
 std::pair<int, int> pngSize(const std::string& bytes) {
@@ -195,7 +193,7 @@ TEST(CliOutput, TurntableTurnsTheSculptureInOneFraming) {
     EXPECT_NE(r.err.find("wrote 4 frames"), std::string::npos) << r.err;
     std::vector<std::string> frames;
     for (int i = 0; i < 4; ++i) {
-        frames.push_back(slurp(dir / ("t-00" + std::to_string(i) + ".png")));
+        frames.push_back(readFile(dir / ("t-00" + std::to_string(i) + ".png")));
         EXPECT_EQ(pngSize(frames.back()), std::make_pair(48, 40)) << i;
     }
     EXPECT_FALSE(fs::exists(dir / "t.png"));
@@ -207,8 +205,8 @@ TEST(CliOutput, TurntableTurnsTheSculptureInOneFraming) {
     r = run({"render", kSnowman, "--out", shifted, "--turntable", "4", "--yaw", "90", "--size",
              "48x40", "--samples", "1", "--spacing", "2"});
     ASSERT_EQ(r.code, 0) << r.err;
-    EXPECT_EQ(slurp(dir / "s-000.png"), frames[1]);
-    EXPECT_EQ(slurp(dir / "s-003.png"), frames[0]);
+    EXPECT_EQ(readFile(dir / "s-000.png"), frames[1]);
+    EXPECT_EQ(readFile(dir / "s-003.png"), frames[0]);
     // Refused before any work: a non-PNG name, a frame count out of range.
     r = run({"render", kSnowman, "--out", (dir / "t.jpg").string(), "--turntable", "3"});
     EXPECT_EQ(r.code, 2);

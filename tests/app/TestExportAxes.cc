@@ -5,6 +5,7 @@
 //
 // The sculpture is lopsided on every axis (a stroke up +z, a longer one out along +x, a
 // shorter one along -y), so a mirror, a wrong turn or a swapped axis changes the box.
+#include "../TestFiles.h"
 #include "vsculpt/app/Cli.h"
 #include "vsculpt/core/ExportDxf.h"
 #include "vsculpt/core/ExportMesh.h"
@@ -132,12 +133,7 @@ ReadBack readWithAssimp(const std::filesystem::path& path, UpAxis up) {
     return r;
 }
 
-std::string readFile(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
+using vsculpt::test::readFile;
 
 /// The JSON chunk of a GLB (glTF 2.0 binary container: 12-byte header, then chunks).
 nlohmann::json glbJson(const std::filesystem::path& path) {

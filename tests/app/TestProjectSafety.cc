@@ -6,6 +6,7 @@
 #include "vsculpt/core/Project.h"
 #include "vsculpt/studio/Studio.h"
 
+#include "../TestFiles.h"
 #include "../TestFixtures.h"
 
 #include <fcntl.h>
@@ -73,12 +74,7 @@ int wait(const Child& c) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
-std::string slurp(const std::filesystem::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using vsculpt::test::readFile;
 
 // Runs the executable to the end: exit code and what it printed.
 std::pair<int, std::string> run(const std::vector<std::string>& args, const TempDir& dir,
@@ -87,7 +83,7 @@ std::pair<int, std::string> run(const std::vector<std::string>& args, const Temp
     all.insert(all.end(), args.begin(), args.end());
     const Child c = spawn(all, dir.path / "out.log", env);
     const int code = wait(c);
-    return {code, slurp(c.log)};
+    return {code, readFile(c.log)};
 }
 
 // A script of `n` strokes over the sphere, a few undone, one command a line.
@@ -175,8 +171,8 @@ TEST(ProjectSafety, WindowKilledMidSessionReopensAsTheJournalPrefix) {
     }
     ::kill(c.pid, SIGKILL);
     const int code = wait(c);
-    ASSERT_GE(records, 12u) << slurp(c.log);
-    EXPECT_EQ(code, 128 + SIGKILL) << "the window ended by itself: " << slurp(c.log);
+    ASSERT_GE(records, 12u) << readFile(c.log);
+    EXPECT_EQ(code, 128 + SIGKILL) << "the window ended by itself: " << readFile(c.log);
 
     const core::SculptConfig cfg = core::loadConfig(config);
     auto reopened = Session::openProject(project, cfg);
@@ -269,7 +265,7 @@ TEST(ProjectSafety, PlantedSymlinksAreNeverFollowed) {
         run({"play", script.string(), "--project", p1.string(), "--no-progress"}, dir);
     EXPECT_EQ(code, 2) << log;
     EXPECT_NE(log.find((p1 / "lock").string()), std::string::npos) << log;
-    EXPECT_EQ(slurp(victim), "precious");
+    EXPECT_EQ(readFile(victim), "precious");
     // At the fixed temporary names writers used to use: they are not used any more, so a
     // link there changes nothing, and a save never writes through it.
     const auto p2 = dir.path / "p2";
@@ -282,7 +278,7 @@ TEST(ProjectSafety, PlantedSymlinksAreNeverFollowed) {
         {"play", script.string(), "--project", p2.string(), "--no-progress", "--out", out.string()},
         dir);
     EXPECT_EQ(code2, 0) << log2;
-    EXPECT_EQ(slurp(victim), "precious");
+    EXPECT_EQ(readFile(victim), "precious");
     EXPECT_TRUE(std::filesystem::is_regular_file(out));
 }
 
@@ -298,7 +294,7 @@ TEST(ProjectSafety, RenderNeverChangesAProject) {
     std::ofstream(core::journalPath(project), std::ios::app | std::ios::binary) << "torn";
     std::map<std::string, std::string> before;
     for (const auto& e : std::filesystem::directory_iterator(project))
-        before[e.path().filename().string()] = slurp(e.path());
+        before[e.path().filename().string()] = readFile(e.path());
     const auto png = dir.path / "still.png";
     const auto [code, log] = run({"render", project.string(), "--out", png.string(), "--size",
                                   "64x48", "--samples", "1", "--spacing", "3"},
@@ -308,7 +304,7 @@ TEST(ProjectSafety, RenderNeverChangesAProject) {
     EXPECT_NE(log.find("journal.vjl"), std::string::npos) << "the torn tail is reported: " << log;
     std::map<std::string, std::string> after;
     for (const auto& e : std::filesystem::directory_iterator(project))
-        after[e.path().filename().string()] = slurp(e.path());
+        after[e.path().filename().string()] = readFile(e.path());
     after.erase("lock");  // a reader may leave the (empty) lock file
     before.erase("lock");
     EXPECT_EQ(after, before);

@@ -8,6 +8,7 @@
 #include "vsculpt/core/ProjectLock.h"
 #include "vsculpt/core/WriteFileAtomically.h"
 
+#include "../TestFiles.h"
 #include "TestHelpers.h"
 
 #include <gtest/gtest.h>
@@ -54,17 +55,8 @@ struct TempDir {
     }
 };
 
-std::string readFile(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-void writeFile(const fs::path& p, const std::string& bytes) {
-    std::ofstream out(p, std::ios::binary | std::ios::trunc);
-    out << bytes;
-}
+using vsculpt::test::readFile;
+using vsculpt::test::writeFile;
 
 std::vector<std::string> listDir(const fs::path& dir) {
     std::vector<std::string> names;

@@ -5,6 +5,7 @@
 
 #include "vsculpt/core/EvalField.h"
 
+#include "../TestFiles.h"
 #include "../TestFixtures.h"
 
 #include <gtest/gtest.h>
@@ -23,7 +24,9 @@ namespace {
 core::SculptConfig smallConfig() {
     return test::smallConfig(20);
 }
+using test::readFile;
 using test::TempDir;
+using test::writeFile;
 
 // A pen stroke along a circle (view mm), `turns` times round, with a slight wobble so
 // overdrawn strokes differ like a hand's.
@@ -224,6 +227,34 @@ TEST(Studio, ProjectKeepsTheSketchAndTheTimeline) {
     studio.undo();
     EXPECT_NE(core::canonicalMeshHash(session->view().mesh()), expected.mesh);
     EXPECT_EQ(session->history().done().size(), 0u);
+}
+
+// Found by fuzzing: a sketch.json holding 200 000 nested arrays in its document overflowed the
+// stack (the loader writes the document back out, recursively). Opening now names the file,
+// line and column and leaves every file of the project as it was.
+TEST(Studio, ASketchFileNestedTooDeepIsRefusedWithItsLine) {
+    TempDir dir;
+    {
+        auto studioPtr = Studio::openProject(dir.path, smallConfig());
+        run(*studioPtr, kOutline + "solid inflate\n");
+    }
+    const auto file = dir.path / "sketch.json";
+    std::string text = readFile(file);
+    const size_t at = text.find("\"document\"");
+    ASSERT_NE(at, std::string::npos);
+    text.insert(at, "\"junk\": " + std::string(200000, '[') + std::string(200000, ']') + ",\n");
+    writeFile(file, text);
+    const std::string journal = readFile(dir.path / "journal.vjl");
+    std::string what;
+    try {
+        Studio::openProject(dir.path, smallConfig());
+    } catch (const std::invalid_argument& e) {
+        what = e.what();
+    }
+    EXPECT_NE(what.find(file.string() + ":"), std::string::npos) << what;
+    EXPECT_NE(what.find(": nested more than 64 levels deep"), std::string::npos) << what;
+    EXPECT_EQ(readFile(file), text);
+    EXPECT_EQ(readFile(dir.path / "journal.vjl"), journal);
 }
 
 TEST(Studio, BadSketchCommandsNameTheLine) {

@@ -205,13 +205,35 @@ void Studio::loadSketchFile() {
     mUndoneSurfaceLines = lines("redo_surface_lines");
     mDone = steps("timeline");
     mUndone = steps("redo");
-    size_t surfaceDone = 0, surfaceUndone = 0;
-    for (const Step& s : mDone)
-        surfaceDone += s.surfaceLines;
-    for (const Step& s : mUndone)
-        surfaceUndone += s.surfaceLines;
-    if (surfaceDone != mSurfaceLines.size() || surfaceUndone != mUndoneSurfaceLines.size())
-        throw std::invalid_argument(where + "surface_lines: do not match the timeline's steps");
+    // The timeline must be what undo and redo can walk: its steps' lines add up to the lines
+    // kept (counted without overflow: 2^63 twice once passed as 0), and no page has more
+    // sketch steps than actions its log can undo or redo (a page may keep redo actions the
+    // timeline dropped when a later step was taken elsewhere).
+    auto agree = [&](const std::vector<Step>& steps, size_t lineCount, const char* key,
+                     const char* linesKey, size_t (studio::SketchPage::*actions)() const) {
+        size_t lines = 0;
+        std::vector<size_t> perPage(mDocument.pageCount(), 0);
+        for (const Step& s : steps) {
+            if (s.surfaceLines > lineCount - lines)
+                throw std::invalid_argument(where + linesKey + ": fewer lines than the " + key +
+                                            "'s steps hold");
+            lines += s.surfaceLines;
+            if (s.sketch) ++perPage[s.page];
+        }
+        if (lines != lineCount)
+            throw std::invalid_argument(where + linesKey + ": more lines than the " + key +
+                                        "'s steps hold");
+        for (size_t p = 0; p < perPage.size(); ++p)
+            if (perPage[p] > (mDocument.page(p).*actions)())
+                throw std::invalid_argument(
+                    where + key + ": " + std::to_string(perPage[p]) + " sketch step(s) on page " +
+                    std::to_string(p) + ", whose log holds " +
+                    std::to_string((mDocument.page(p).*actions)()) + " action(s) to " +
+                    (std::string(key) == "timeline" ? "undo" : "redo"));
+    };
+    agree(mDone, mSurfaceLines.size(), "timeline", "surface_lines", &studio::SketchPage::undoCount);
+    agree(mUndone, mUndoneSurfaceLines.size(), "redo", "redo_surface_lines",
+          &studio::SketchPage::redoCount);
     mWrittenDone = mDone;
     mWrittenUndone = mUndone;
     const ReconciledTimeline t = reconciledTimeline(

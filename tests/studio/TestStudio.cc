@@ -257,6 +257,45 @@ TEST(Studio, ASketchFileNestedTooDeepIsRefusedWithItsLine) {
     EXPECT_EQ(readFile(dir.path / "journal.vjl"), journal);
 }
 
+// Found by fuzzing: a timeline undo cannot walk. Surface-line counts of 2^63 twice summed to 0
+// and passed the check, then undo popped an empty list (SIGSEGV); a sketch step on a page whose
+// log has nothing to undo reached Studio::undo's invariant (an abort under the headset's input).
+// Opening now refuses both, naming the file and the key, and changes no file.
+TEST(Studio, ATimelineUndoCannotWalkIsRefusedOnOpening) {
+    TempDir dir;
+    {
+        auto studioPtr = Studio::openProject(dir.path, smallConfig());
+        run(*studioPtr, kOutline + "solid inflate\n");
+    }
+    const auto file = dir.path / "sketch.json";
+    const std::string good = readFile(file);
+    const std::string key = "\"timeline\": [";
+    const size_t timeline = good.find(key);
+    ASSERT_NE(timeline, std::string::npos) << good;
+    const size_t open = timeline + key.size();
+    const std::string huge = R"({"sketch":false,"surface_lines":9223372036854775808},)";
+    const struct {
+        std::string steps, expected;
+    } cases[] = {
+        {huge + huge, "surface_lines: fewer lines than the timeline's steps hold"},
+        {R"({"sketch":true,"page":0},)",
+         "timeline: 1 sketch step(s) on page 0, whose log holds 0 action(s) to undo"},
+    };
+    for (const auto& c : cases) {
+        std::string text = good;
+        text.insert(open, c.steps);
+        writeFile(file, text);
+        std::string what;
+        try {
+            Studio::openProject(dir.path, smallConfig());
+        } catch (const std::invalid_argument& e) {
+            what = e.what();
+        }
+        EXPECT_EQ(what, file.string() + ": " + c.expected);
+        EXPECT_EQ(readFile(file), text);
+    }
+}
+
 TEST(Studio, BadSketchCommandsNameTheLine) {
     auto message = [](const std::string& text) {
         try {

@@ -3,6 +3,7 @@
 
 #include "VdbMesh.h"
 #include "vsculpt/core/PlaceSolid.h"
+#include "vsculpt/core/PlyHeaderProblem.h"
 #include "vsculpt/core/Project.h"
 #include "vsculpt/core/ToolLevels.h"
 
@@ -563,6 +564,13 @@ Mesh importMesh(const std::filesystem::path& path, const ImportOptions& options,
         fail(name, "too large to import (" + std::to_string(bytes >> 20) + " MiB; at most " +
                        std::to_string(kMaxFileBytes >> 20) + " MiB)");
     if (!ec && bytes == 0) fail(name, "empty file");
+    if (ext == ".ply") {
+        // Assimp hangs on a PLY header cut short and crashes on damaged ones: checked here.
+        std::ifstream in(path, std::ios::binary);
+        const std::string all{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+        if (const std::string problem = plyHeaderProblem(all); !problem.empty())
+            throw ImportError(name + ":" + problem);
+    }
 
     Assimp::Importer importer;
     // Only positions and faces matter: everything else is dropped before the other steps.

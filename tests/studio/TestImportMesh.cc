@@ -7,8 +7,10 @@
 #include "vsculpt/core/ExportMesh.h"
 #include "vsculpt/core/ImportMesh.h"
 #include "vsculpt/core/PlaceSolid.h"
+#include "vsculpt/core/PlyHeaderProblem.h"
 #include "vsculpt/studio/Studio.h"
 
+#include "../TestFiles.h"
 #include "../TestFixtures.h"
 #include "../TestSolids.h"
 
@@ -425,6 +427,57 @@ TEST_F(ImportMesh, OpenMeshesAreRepairedWithANoteOrRefused) {
     EXPECT_NE(bowlMsg.find("close it in a mesh editor"), std::string::npos) << bowlMsg;
 }
 
+// Found by fuzzing: Debian's Assimp loops forever on a PLY header cut short and crashes
+// (SIGSEGV) on damaged header lines. Our own exports pass the check in both encodings; every
+// damage named by its line, without Assimp ever seeing the file.
+TEST_F(ImportMesh, DamagedPlyHeadersAreRefusedByLineBeforeAssimpReadsThem) {
+    const auto ply = dir.path / "good.ply";
+    core::exportMesh(original, ply);
+    const std::string good = test::readFile(ply);
+    ASSERT_EQ(core::plyHeaderProblem(good), "") << good.substr(0, 300);
+    const std::string ascii =
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+        "property float y\nproperty float z\nelement face 1\n"
+        "property list uchar int vertex_indices\nend_header\n"
+        "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    EXPECT_EQ(core::plyHeaderProblem(ascii), "");
+    const size_t headerEnd = good.find("end_header\n") + 11;
+    const struct {
+        std::string bytes, expected;
+    } cases[] = {
+        {"ply\nformat ascii 1.0\n", "2: the header ends without 'end_header'"},
+        {"plx\n" + ascii.substr(4), "1: not a PLY file (the first line is not 'ply')"},
+        {"ply\nformat binary_li\x01\x02_endian 1.0\nend_header\n",
+         "2: not a text line of a PLY header"},
+        {"ply\nformat ascii 2.0\nend_header\n", "2: format version: expected 1.0"},
+        {"ply\nformat ascii 1.0\nelement vertex -3\nend_header\n",
+         "3: expected 'element NAME COUNT'"},
+        {"ply\nformat ascii 1.0\nelement vertex 1\nproperty inf x\nend_header\n",
+         "4: expected 'property TYPE NAME' with a PLY type (got 'inf')"},
+        {"ply\nformat ascii 1.0\nproperty float x\nend_header\n",
+         "3: a property before any element"},
+        {"ply\nformat ascii 1.0\nelemen vertex 1\nend_header\n",
+         "3: 'elemen' is not a PLY header keyword"},
+        // Our binary export cut 100 bytes after its header: the vertices no longer fit (the
+        // check counts each list as empty, so it catches a file cut within the vertices).
+        {good.substr(0, headerEnd + 100), ""},
+    };
+    for (const auto& c : cases) {
+        const std::string problem = core::plyHeaderProblem(c.bytes);
+        if (c.expected.empty()) {
+            EXPECT_NE(problem.find("bytes after the header, the file has 100"), std::string::npos)
+                << problem;
+        } else {
+            EXPECT_EQ(problem, c.expected);
+        }
+        // And through the importer, with the file's name and the line, at once.
+        const auto path = dir.path / "bad.ply";
+        writeText(path, c.bytes);
+        const std::string msg = importMessage(path);
+        EXPECT_EQ(msg.rfind(path.string() + ":" + problem, 0), 0u) << msg;
+    }
+}
+
 TEST_F(ImportMesh, BadFilesAreRefusedNamingTheFile) {
     const auto missing = dir.path / "missing.stl";
     EXPECT_EQ(importMessage(missing),
@@ -442,7 +495,9 @@ TEST_F(ImportMesh, BadFilesAreRefusedNamingTheFile) {
         const auto path = dir.path / (std::string("junk") + ext);
         writeText(path, junk);
         const std::string msg = importMessage(path);
-        EXPECT_EQ(msg.rfind(path.string() + ": ", 0), 0u) << msg;
+        // The file first, then (where the check knows it: a PLY header) the line.
+        EXPECT_EQ(msg.rfind(path.string() + (std::string(ext) == ".ply" ? ":1: " : ": "), 0), 0u)
+            << msg;
         EXPECT_NE(msg, "(no error)") << ext;
         std::printf("%s: %s\n", ext, msg.c_str());
     }

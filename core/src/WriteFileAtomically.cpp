@@ -65,6 +65,16 @@ void requireFileName(const fs::path& path) {
         fail(path, "names a folder, not a file", EISDIR);
 }
 
+/// A rename replaces whatever the name held: a device node (/dev/full, for a process running
+/// as root), a pipe or a socket would be gone, a file left in its place. Only a regular file
+/// (or a symlink, itself replaced) may be; a folder makes the rename fail.
+void requireReplaceable(int dirFd, const fs::path& path) {
+    struct stat st {};
+    if (::fstatat(dirFd, path.filename().c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0) return;
+    if (!S_ISREG(st.st_mode) && !S_ISLNK(st.st_mode) && !S_ISDIR(st.st_mode))
+        fail(path, "is a device, pipe or socket, not a file: not replaced", EINVAL);
+}
+
 }  // namespace
 
 void writeFileAtomically(const fs::path& path, std::string_view bytes, bool durable) {
@@ -73,6 +83,7 @@ void writeFileAtomically(const fs::path& path, std::string_view bytes, bool dura
     const std::string name = path.filename().string();
     FdGuard dirFd(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
     if (dirFd.get() < 0) fail(path, "cannot open its folder " + dir.string(), errno);
+    requireReplaceable(dirFd.get(), path);
 
     std::string tmp;
     int fd = -1;
@@ -116,6 +127,7 @@ void replaceWithHardLink(const fs::path& existing, const fs::path& target, bool 
     const std::string name = target.filename().string();
     FdGuard dirFd(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
     if (dirFd.get() < 0) fail(target, "cannot open its folder " + dir.string(), errno);
+    requireReplaceable(dirFd.get(), target);
     std::string tmp;
     for (int attempt = 0;; ++attempt) {
         tmp = tempName(name);
@@ -147,6 +159,9 @@ void ensureWritable(const fs::path& path) {
     if (::faccessat(AT_FDCWD, dir.c_str(), W_OK | X_OK, AT_EACCESS) != 0)
         fail(path, "cannot create files in " + dir.string(), errno);
     if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) fail(path, "is a folder", EISDIR);
+    FdGuard dirFd(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
+    if (dirFd.get() < 0) fail(path, "cannot open its folder " + dir.string(), errno);
+    requireReplaceable(dirFd.get(), path);
 }
 
 namespace detail {

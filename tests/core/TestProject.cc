@@ -256,6 +256,32 @@ TEST(WriteFileAtomically, ASymlinkAtTheTargetIsReplacedNotWrittenThrough) {
     EXPECT_EQ(readFile(victim), "precious");
 }
 
+// Found by fuzzing, as root: `play --stats /dev/full` renamed a JSON file over the device node.
+// A pipe (what a test can make without root) stands for every name that is not a file.
+TEST(WriteFileAtomically, ADevicePipeOrSocketAtTheTargetIsNeverReplaced) {
+    TempDir dir;
+    const fs::path pipe = dir.path / "stats.json", source = dir.path / "source.txt";
+    ASSERT_EQ(::mkfifo(pipe.c_str(), 0644), 0);
+    writeFile(source, "x");
+    const std::string expected = pipe.string() +
+                                 ": is a device, pipe or socket, not a file: not "
+                                 "replaced: " +
+                                 std::strerror(EINVAL);
+    auto messageOf = [](auto&& f) {
+        try {
+            f();
+        } catch (const FileWriteError& e) {
+            return std::string(e.what());
+        }
+        return std::string("(no error)");
+    };
+    EXPECT_EQ(messageOf([&] { writeFileAtomically(pipe, "{}", false); }), expected);
+    EXPECT_EQ(messageOf([&] { ensureWritable(pipe); }), expected);
+    EXPECT_EQ(messageOf([&] { replaceWithHardLink(source, pipe, false); }), expected);
+    EXPECT_TRUE(fs::is_fifo(pipe));
+    EXPECT_EQ(listDir(dir.path).size(), 2u);  // no temporary file left
+}
+
 TEST(WriteFileAtomically, FailuresNameTheRealPathAndTheReasonAndLeaveNothingBehind) {
     TempDir dir;
     const fs::path missing = dir.path / "no-such-folder" / "out.txt";

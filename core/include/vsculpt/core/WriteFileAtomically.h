@@ -57,7 +57,8 @@ void replaceWithHardLink(const std::filesystem::path& existing, const std::files
                          bool durable);
 
 /// Checks, creating nothing, that writeFileAtomically(path, ...) can work: `path`'s folder
-/// exists and is a folder this process may create files in, and `path` is not a folder.
+/// exists and is a folder this process may create files in, and `path` is not a folder,
+/// device, pipe or socket (those are never replaced: writeFileAtomically refuses them too).
 /// For output files named at the start of a long session (an export after a playback), so a
 /// mistyped or read-only folder fails at once rather than after the work. Throws
 /// FileWriteError naming `path` and the reason. A check, not a promise: the folder can change

@@ -539,6 +539,38 @@ JournalContents readJournal(const fs::path& path) {
     return out;
 }
 
+namespace {
+
+/// The whole journal, copied durably to the first free name of PATH.damaged, .damaged-2, ...
+fs::path keepBeforeCutting(int fd, const fs::path& path, off_t size) {
+    std::string bytes(size_t(size), '\0');
+    for (size_t done = 0; done < bytes.size();) {
+        const ssize_t n = ::pread(fd, bytes.data() + done, bytes.size() - done, off_t(done));
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0)
+            throw ProjectError(path.string() +
+                               ": cannot read it to keep a copy before cutting "
+                               "its damaged tail: " +
+                               (n < 0 ? errnoText(errno) : std::string("file shrank")));
+        done += size_t(n);
+    }
+    for (int i = 1;; ++i) {
+        fs::path copy = path;
+        copy += i == 1 ? ".damaged" : ".damaged-" + std::to_string(i);
+        std::error_code ec;
+        if (fs::exists(fs::symlink_status(copy, ec))) continue;
+        try {
+            writeFileAtomically(copy, bytes, true);
+        } catch (const FileWriteError& e) {
+            throw ProjectError(std::string(e.what()) + " (a copy of " + path.string() +
+                               " kept before cutting its damaged tail)");
+        }
+        return copy;
+    }
+}
+
+}  // namespace
+
 JournalWriter::JournalWriter(const fs::path& path, uint64_t validBytes) : mPath(path) {
     // Read too: reset(keepFrom) copies the records appended while a snapshot was written.
     mFd = ::open(path.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
@@ -553,6 +585,8 @@ JournalWriter::JournalWriter(const fs::path& path, uint64_t validBytes) : mPath(
             throw ProjectError(path.string() + ": asked to continue at byte " +
                                std::to_string(validBytes) + " of a " + std::to_string(st.st_size) +
                                "-byte file (changed since read?)");
+        const uint64_t kept = validBytes < kMagicBytes ? 0 : validBytes;
+        if (uint64_t(st.st_size) > kept) mKeptDamaged = keepBeforeCutting(mFd, path, st.st_size);
         if (validBytes < kMagicBytes) {
             if (::ftruncate(mFd, 0) != 0)
                 throw ProjectError(path.string() + ": cannot truncate: " + errnoText(errno));

@@ -131,8 +131,15 @@ std::unique_ptr<Session> Session::openProject(const std::filesystem::path& dir,
         s->mRecoveryWarning += (s->mRecoveryWarning.empty() ? "" : "\n") + w;
     if (!lockNote.empty())
         s->mRecoveryWarning += (s->mRecoveryWarning.empty() ? "" : "\n") + lockNote;
-    if (!readOnly)
+    if (!readOnly) {
         s->mJournal = std::make_unique<JournalWriter>(journalPath(dir), found.journalValidBytes);
+        if (const std::filesystem::path& kept = s->mJournal->keptDamaged(); !kept.empty())
+            s->mRecoveryWarning += (s->mRecoveryWarning.empty() ? "" : "\n") +
+                                   journalPath(dir).string() +
+                                   " as it was (with what could not be "
+                                   "replayed) is kept in " +
+                                   kept.string();
+    }
     s->mLock = std::move(lock);
     s->rebuildView();
     return s;

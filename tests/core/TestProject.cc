@@ -602,6 +602,42 @@ TEST(Project, SaveKeepsBackupsAndReadProjectReplaysTheJournal) {
     EXPECT_EQ(b.project.journalValidBytes, fs::file_size(journalPath(dir.path)));
 }
 
+// Found by fuzzing: one flipped bit in record 2 of 6 and the next session's writer cut the
+// journal after record 1, so records 3-6 (intact, but not replayable without 2) were gone for
+// good. The writer now keeps the file as it was before it cuts anything.
+TEST(Project, AJournalCutAfterDamageIsFirstKeptWhole) {
+    TempDir dir;
+    Sculptor s;
+    {
+        JournalWriter j(journalPath(dir.path), 0);
+        EXPECT_TRUE(j.keptDamaged().empty());  // a new journal: nothing to keep
+        for (int i = 0; i < 6; ++i)
+            s.stroke(j, ToolOp::Add, 4, {-20.0 + 5 * i, 0, 0}, {20, 5.0 * i, 0});
+    }
+    const fs::path journal = journalPath(dir.path);
+    std::string bytes = readFile(journal);
+    const JournalContents clean = readJournal(journal);
+    ASSERT_EQ(clean.records.size(), 6u);
+    // A clean journal is continued where it ends: nothing cut, nothing kept.
+    ASSERT_EQ(readProject(dir.path).journalValidBytes, bytes.size());
+    EXPECT_TRUE(JournalWriter(journal, bytes.size()).keptDamaged().empty());
+    EXPECT_FALSE(fs::exists(dir.path / "journal.vjl.damaged"));
+    // A byte inside the second record: readProject keeps record 1 only.
+    const size_t second = bytes.size() / 6 + bytes.size() / 12;
+    bytes[second] ^= 0x10;
+    writeFile(journal, bytes);
+    const RecoveredProject damaged = readProject(dir.path);
+    EXPECT_EQ(damaged.records.size(), 1u) << allWarnings(damaged);
+    ASSERT_LT(damaged.journalValidBytes, bytes.size());
+    for (const char* name : {"journal.vjl.damaged", "journal.vjl.damaged-2"}) {
+        JournalWriter j(journal, damaged.journalValidBytes);
+        EXPECT_EQ(j.keptDamaged(), dir.path / name);
+        EXPECT_EQ(readFile(dir.path / name), bytes);  // every byte, the damaged record too
+        EXPECT_EQ(fs::file_size(journal), damaged.journalValidBytes);
+        writeFile(journal, bytes);  // damaged again: the next copy takes the next name
+    }
+}
+
 TEST(Project, ADamagedSnapshotIsRecoveredFromTheBackupAndBothJournals) {
     TempDir dir;
     Sculptor s;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/studio/Session.h"
 
+#include "../TestFiles.h"
 #include "../TestFixtures.h"
 
 #include <gtest/gtest.h>
@@ -16,6 +17,7 @@ using core::Vec3;
 
 namespace {
 
+using test::readFile;
 using test::smallConfig;
 using test::TempDir;
 
@@ -346,11 +348,21 @@ TEST(Session, DamagedJournalTailIsDroppedAndReported) {
     const auto journal = core::journalPath(dir.path);
     const auto size = std::filesystem::file_size(journal);
     std::filesystem::resize_file(journal, size - 7);  // the last record torn
+    const std::string torn = readFile(journal);
     {
         auto s = Session::openProject(dir.path, smallConfig());
         EXPECT_EQ(s->recoveredEdits(), 2u);
         EXPECT_NE(s->recoveryWarning().find("is truncated"), std::string::npos)
             << s->recoveryWarning();
+        // The journal as it was, torn record and all, is kept before the writer cuts it.
+        const auto kept = dir.path / "journal.vjl.damaged";
+        EXPECT_NE(s->recoveryWarning().find(journal.string() +
+                                            " as it was (with what could not "
+                                            "be replayed) is kept in " +
+                                            kept.string()),
+                  std::string::npos)
+            << s->recoveryWarning();
+        EXPECT_EQ(readFile(kept), torn);
         EXPECT_EQ(viewHash(*s), afterTwo);
         sculptSome(*s, 1, 6);  // appends after the good prefix
     }

@@ -83,9 +83,14 @@ JournalContents readJournal(const std::filesystem::path& path);
 class JournalWriter {
   public:
     /// Opens (creating if needed) and cuts the file to `validBytes` (dropping a damaged tail;
-    /// below the header's 8 bytes: a new, empty journal). Never follows a symlink at `path`.
-    /// Throws ProjectError naming the path and the OS reason.
+    /// below the header's 8 bytes: a new, empty journal). Before anything is cut, the whole
+    /// file is copied, durably, to the first free name of `path`.damaged, .damaged-2, ...
+    /// (keptDamaged()): the records after a damaged one cannot be replayed, but they are the
+    /// sculptor's work and a repair may need them. Never follows a symlink at `path`.
+    /// Throws ProjectError naming the path and the OS reason, having cut nothing.
     JournalWriter(const std::filesystem::path& path, uint64_t validBytes);
+    /// Where the constructor kept the file it cut; empty when it cut nothing.
+    const std::filesystem::path& keptDamaged() const { return mKeptDamaged; }
     ~JournalWriter();
     JournalWriter(const JournalWriter&) = delete;
     JournalWriter& operator=(const JournalWriter&) = delete;
@@ -109,6 +114,7 @@ class JournalWriter {
 
   private:
     std::filesystem::path mPath;
+    std::filesystem::path mKeptDamaged;
     int mFd = -1;
     uint64_t mLastSequence = 0;  ///< of the last record appended by this writer; 0: none yet
 };

@@ -18,9 +18,12 @@ std::pair<int, int> parseImageSize(const std::string& text, const std::string& o
     if (!parsed)
         throw std::invalid_argument(option + " must be WIDTHxHEIGHT (e.g. 1280x800), got '" + text +
                                     "'");
-    if (w < 1 || h < 1 || w > 16384 || h > 16384)
-        throw std::invalid_argument(option + " " + text +
-                                    ": width and height must be 1 to 16384 pixels");
+    // What the renderers draw: checked here, before the meshing a run does first.
+    if (w < render::kMinImageSide || h < render::kMinImageSide || w > render::kMaxImageSide ||
+        h > render::kMaxImageSide)
+        throw std::invalid_argument(option + " " + text + ": width and height must be " +
+                                    std::to_string(render::kMinImageSide) + " to " +
+                                    std::to_string(render::kMaxImageSide) + " pixels");
     return {w, h};
 }
 

@@ -347,9 +347,13 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
         }
         const nlohmann::json stats = statsJson(studio, mesh, o, spacing);
         if (o.statsPath == "-") {
-            out << stats.dump(2) << "\n";
+            out << stats.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
         } else if (!o.statsPath.empty()) {
-            core::writeFileAtomically(o.statsPath, stats.dump(2) + "\n", /*durable=*/false);
+            // A script's path (or other names) with invalid UTF-8 is written with U+FFFD.
+            core::writeFileAtomically(
+                o.statsPath,
+                stats.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n",
+                /*durable=*/false);
         }
         // stdout carries machine output only (--stats -): what a person reads goes to stderr.
         if (recording) logLines(spdlog::level::info, deviceSummary);

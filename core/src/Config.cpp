@@ -313,6 +313,9 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
     json root;
     try {
         root = json::parse(jsonText, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+    } catch (const json::out_of_range& e) {
+        // A number past a double's range (1e400): the parser's only other complaint.
+        throw ConfigError(sourceName + ": invalid JSON: " + printableText(e.what(), 240));
     } catch (const json::parse_error& e) {
         // e.byte is 1-based and points just past the offending character.
         const size_t at = e.byte > 0 ? e.byte - 1 : 0;
@@ -530,6 +533,9 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
 
 SculptConfig loadConfig(const std::filesystem::path& path) {
     if (path.empty()) return SculptConfig{};  // source: "built-in defaults"
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        throw ConfigError(path.string() + ": cannot open config file: it is a folder");
     std::ifstream in(path, std::ios::binary);
     if (!in) {
         const char* env = envValue("VSCULPT_CONFIG");

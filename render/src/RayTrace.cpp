@@ -112,8 +112,10 @@ bool RayScene::occluded(const Vec3& o, const Vec3& dirIn, double tNear, double t
 }
 
 Image rayTrace(const core::Mesh& mesh, const RayTraceOptions& o) {
-    if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192)
-        throw RenderError("image size must be between 16 and 8192 pixels per side");
+    if (o.width < kMinImageSide || o.height < kMinImageSide || o.width > kMaxImageSide ||
+        o.height > kMaxImageSide)
+        throw RenderError("image size must be between " + std::to_string(kMinImageSide) + " and " +
+                          std::to_string(kMaxImageSide) + " pixels per side");
     const RayScene scene(mesh);
     const core::Aabb box = o.frameBox ? *o.frameBox : core::meshBounds(mesh);
     StereoDisplay d;

@@ -35,8 +35,10 @@ StereoMode parseStereoMode(const std::string& s) {
 }
 
 Image renderShot(const core::Mesh& mesh, const ShotOptions& o) {
-    if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192)
-        throw RenderError("image size must be between 16 and 8192 pixels per side");
+    if (o.width < kMinImageSide || o.height < kMinImageSide || o.width > kMaxImageSide ||
+        o.height > kMaxImageSide)
+        throw RenderError("image size must be between " + std::to_string(kMinImageSide) + " and " +
+                          std::to_string(kMaxImageSide) + " pixels per side");
     const detail::WindowPtr window = detail::createWindow(64, 64, "vsculpt shot", false);
 
     // Offscreen target of the requested size.

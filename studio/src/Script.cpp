@@ -471,6 +471,10 @@ Script parseScript(std::string_view text, const std::string& source) {
 }
 
 Script loadScript(const std::filesystem::path& path) {
+    // An ifstream opens a folder and reads nothing from it: a script of no commands.
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        throw ScriptError(path.string() + ": cannot open script: it is a folder");
     std::ifstream in(path, std::ios::binary);
     if (!in) {
         // The whole file: no ":0" line number, and the OS's reason.

@@ -100,6 +100,19 @@ TEST(CliOutput, QuietKeepsOnlyErrorsAndWarnings) {
     fs::remove_all(dir);
 }
 
+// Found by fuzzing: a script whose file name is not UTF-8 ran, exported, and then failed
+// (exit 1) writing --stats: JSON strings must be UTF-8. The name is written with U+FFFD.
+TEST(CliOutput, StatsOfAScriptWhoseNameIsNotUtf8AreWritten) {
+    const fs::path dir = scratchDir("utf8");
+    const fs::path script = dir / "sn\xffow.vsc";
+    fs::copy_file(kSnowman, script);
+    const CliRun r = run({"play", script.string(), "--stats", (dir / "s.json").string(), "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const nlohmann::json stats = nlohmann::json::parse(readFile(dir / "s.json"));
+    EXPECT_EQ(stats["script"].get<std::string>(), (dir / "sn\xef\xbf\xbdow.vsc").string());
+    fs::remove_all(dir);
+}
+
 TEST(CliOutput, VerboseAddsDebugMessagesAndConflictsWithQuiet) {
     const fs::path dir = scratchDir("verbose");
     CliRun r = run({"play", kSnowman, "--out", (dir / "a.ply").string(), "--verbose"});

@@ -162,6 +162,11 @@ TEST(Config, SyntaxErrorsNameFileLineAndColumn) {
     const std::string e = errorOf("{\n  \"tools\": {\n    \"growth\": 1.5,,\n  }\n}");
     EXPECT_NE(e.find("test.json:3:"), std::string::npos) << e;
     EXPECT_NE(e.find("invalid JSON"), std::string::npos) << e;
+    // A number past a double's range is the parser's other complaint (found by fuzzing: it
+    // escaped as a bare nlohmann exception, exit 1 instead of 2, no file named).
+    EXPECT_EQ(errorOf(R"({"tools": {"d4_mm": 1e400}})"),
+              "test.json: invalid JSON: [json.exception.out_of_range.406] number overflow parsing "
+              "'1e400'");
 }
 
 struct Bad {

@@ -40,6 +40,10 @@ struct ShotOptions {
     FrameFit fit = FrameFit::Sphere;  ///< the window's framing, as `play --shot` shows it
 };
 
+/// The image sizes renderShot and rayTrace draw, per side in pixels (the CLI checks the same
+/// bounds before anything runs).
+inline constexpr int kMinImageSide = 16, kMaxImageSide = 8192;
+
 /// The RGB of the background (so tests and tools can tell the sculpture from it).
 inline constexpr uint8_t kBackground[3] = {26, 28, 38};
 

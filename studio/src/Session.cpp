@@ -70,6 +70,12 @@ std::unique_ptr<Session> Session::openProject(const std::filesystem::path& dir,
     if (readOnly) {
         if (!std::filesystem::is_directory(dir, ec))
             throw ProjectError(dir.string() + ": no project folder here");
+        // Before the lock: a reader leaves no lock file in a folder that is not a project
+        // (a project has a snapshot or, after a crash in a save, its backup).
+        if (!std::filesystem::exists(snapshotPath(dir), ec) &&
+            !std::filesystem::exists(snapshotBackupPath(dir), ec))
+            throw ProjectError(dir.string() + ": not a vsculpt project (no " +
+                               snapshotPath(dir).filename().string() + ")");
     } else {
         std::filesystem::create_directories(dir, ec);
         if (ec)

@@ -293,6 +293,21 @@ TEST(Session, ABackgroundSaveIsRefusedWhereASaveIs) {
     EXPECT_FALSE(plain.pollSave(true));
 }
 
+// Found by fuzzing: `vsculpt render FOLDER` of a folder that is not a project left a lock
+// file there before it said so. A reader now refuses first and writes nothing.
+TEST(Session, AReaderOfAFolderThatIsNoProjectLeavesItUntouched) {
+    TempDir dir;
+    std::filesystem::create_directories(dir.path / "photos");
+    std::string what;
+    try {
+        Session::openProject(dir.path / "photos", smallConfig(), ProjectMode::ReadOnly);
+    } catch (const core::ProjectError& e) {
+        what = e.what();
+    }
+    EXPECT_EQ(what, (dir.path / "photos").string() + ": not a vsculpt project (no snapshot.vsnap)");
+    EXPECT_TRUE(std::filesystem::is_empty(dir.path / "photos"));
+}
+
 TEST(Session, AProjectKeepsThePlacementModeItWasMadeWith) {
     // Made in `free` mode (the default before `swept`): reopened with today's default config,
     // its journal replays with the rule that made it, to the same mesh.

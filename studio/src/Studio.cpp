@@ -146,9 +146,16 @@ void Studio::loadSketchFile() {
     } catch (const nlohmann::json::exception& e) {
         throw std::invalid_argument(where + "not valid JSON (" + e.what() + ")");
     }
-    if (!j.is_object() || j.value("format", "") != "vsculpt-studio")
+    if (!j.is_object() || !j.contains("format") || j["format"] != "vsculpt-studio")
         throw std::invalid_argument(where + "format: expected \"vsculpt-studio\"");
-    if (j.value("version", 0) != 1) throw std::invalid_argument(where + "version: expected 1");
+    if (!j.contains("version") || j["version"] != 1)
+        throw std::invalid_argument(where + "version: expected 1");
+    // Optional lists: absent is empty, anything but a list is refused by name.
+    auto list = [&](const char* key) {
+        if (!j.contains(key)) return nlohmann::json::array();
+        if (!j[key].is_array()) throw std::invalid_argument(where + key + ": expected a list");
+        return j[key];
+    };
     if (!j.contains("document") || !j["document"].is_object())
         throw std::invalid_argument(where + "document: missing");
     try {
@@ -157,7 +164,7 @@ void Studio::loadSketchFile() {
         throw std::invalid_argument(where + "document." + e.what());
     }
     mPlanes.assign(mDocument.pageCount(), SketchPlane::Front);
-    const nlohmann::json planes = j.value("planes", nlohmann::json::array());
+    const nlohmann::json planes = list("planes");
     for (size_t i = 0; i < planes.size() && i < mPlanes.size(); ++i) {
         const std::string p = planes[i].is_string() ? planes[i].get<std::string>() : "";
         if (p != "front" && p != "side" && p != "top")
@@ -169,15 +176,21 @@ void Studio::loadSketchFile() {
     }
     auto steps = [&](const char* key) {
         std::vector<Step> out;
-        const nlohmann::json a = j.value(key, nlohmann::json::array());
+        const nlohmann::json a = list(key);
         for (size_t i = 0; i < a.size(); ++i) {
             const std::string at = where + key + "[" + std::to_string(i) + "]";
             if (!a[i].is_object() || !a[i].contains("sketch") || !a[i]["sketch"].is_boolean())
                 throw std::invalid_argument(at + ".sketch: expected true or false");
+            auto count = [&](const char* field) {
+                if (!a[i].contains(field)) return size_t(0);
+                if (!a[i][field].is_number_unsigned())
+                    throw std::invalid_argument(at + "." + field + ": expected a count");
+                return a[i][field].get<size_t>();
+            };
             Step s;
             s.sketch = a[i]["sketch"].get<bool>();
-            s.page = a[i].value("page", size_t(0));
-            s.surfaceLines = a[i].value("surface_lines", size_t(0));
+            s.page = count("page");
+            s.surfaceLines = count("surface_lines");
             if (s.page >= mDocument.pageCount())
                 throw std::invalid_argument(at + ".page: no such page");
             out.push_back(s);
@@ -186,8 +199,11 @@ void Studio::loadSketchFile() {
     };
     auto lines = [&](const char* key) {
         std::vector<std::vector<core::Vec3>> out;
-        const nlohmann::json a = j.value(key, nlohmann::json::array());
+        const nlohmann::json a = list(key);
         for (size_t i = 0; i < a.size(); ++i) {
+            if (!a[i].is_array())
+                throw std::invalid_argument(where + key + "[" + std::to_string(i) +
+                                            "]: expected a list of points");
             std::vector<core::Vec3> line;
             for (size_t k = 0; k < a[i].size(); ++k) {
                 const nlohmann::json& p = a[i][k];

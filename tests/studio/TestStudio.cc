@@ -9,9 +9,11 @@
 #include "../TestFixtures.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <random>
 #include <sstream>
 
@@ -293,6 +295,47 @@ TEST(Studio, ATimelineUndoCannotWalkIsRefusedOnOpening) {
         }
         EXPECT_EQ(what, file.string() + ": " + c.expected);
         EXPECT_EQ(readFile(file), text);
+    }
+}
+
+// Found by fuzzing: values of the wrong type in sketch.json gave nlohmann's bare words
+// ("type must be string, but is number", "cannot use operator[] with a numeric argument").
+TEST(Studio, ASketchFileValueOfTheWrongTypeIsNamedByItsKey) {
+    TempDir dir;
+    {
+        auto studioPtr = Studio::openProject(dir.path, smallConfig());
+        run(*studioPtr, kOutline + "solid inflate\n");
+    }
+    const auto file = dir.path / "sketch.json";
+    const nlohmann::json good = nlohmann::json::parse(readFile(file));
+    ASSERT_FALSE(good["timeline"].empty());
+    const struct {
+        std::function<void(nlohmann::json&)> damage;
+        std::string expected;
+    } cases[] = {
+        {[](nlohmann::json& j) { j["version"] = "1"; }, "version: expected 1"},
+        {[](nlohmann::json& j) { j["format"] = 7; }, "format: expected \"vsculpt-studio\""},
+        {[](nlohmann::json& j) { j["timeline"] = 5; }, "timeline: expected a list"},
+        {[](nlohmann::json& j) { j["planes"] = nlohmann::json::object(); },
+         "planes: expected a list"},
+        {[](nlohmann::json& j) { j["timeline"][0]["page"] = "x"; },
+         "timeline[0].page: expected a count"},
+        {[](nlohmann::json& j) { j["timeline"][0]["surface_lines"] = -1; },
+         "timeline[0].surface_lines: expected a count"},
+        {[](nlohmann::json& j) { j["surface_lines"] = {5}; },
+         "surface_lines[0]: expected a list of points"},
+    };
+    for (const auto& c : cases) {
+        nlohmann::json j = good;
+        c.damage(j);
+        writeFile(file, j.dump(1));
+        std::string what;
+        try {
+            Studio::openProject(dir.path, smallConfig());
+        } catch (const std::invalid_argument& e) {
+            what = e.what();
+        }
+        EXPECT_EQ(what, file.string() + ": " + c.expected);
     }
 }
 

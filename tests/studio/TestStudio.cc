@@ -231,6 +231,20 @@ TEST(Studio, ProjectKeepsTheSketchAndTheTimeline) {
     EXPECT_EQ(session->history().done().size(), 0u);
 }
 
+namespace {
+
+/// Why opening the project in `dir` is refused (std::invalid_argument), or "" when it opens.
+std::string openingError(const std::filesystem::path& dir) {
+    try {
+        Studio::openProject(dir, smallConfig());
+    } catch (const std::invalid_argument& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
 // Found by fuzzing: a sketch.json holding 200 000 nested arrays in its document overflowed the
 // stack (the loader writes the document back out, recursively). Opening now names the file,
 // line and column and leaves every file of the project as it was.
@@ -247,12 +261,7 @@ TEST(Studio, ASketchFileNestedTooDeepIsRefusedWithItsLine) {
     text.insert(at, "\"junk\": " + std::string(200000, '[') + std::string(200000, ']') + ",\n");
     writeFile(file, text);
     const std::string journal = readFile(dir.path / "journal.vjl");
-    std::string what;
-    try {
-        Studio::openProject(dir.path, smallConfig());
-    } catch (const std::invalid_argument& e) {
-        what = e.what();
-    }
+    const std::string what = openingError(dir.path);
     EXPECT_NE(what.find(file.string() + ":"), std::string::npos) << what;
     EXPECT_NE(what.find(": nested more than 64 levels deep"), std::string::npos) << what;
     EXPECT_EQ(readFile(file), text);
@@ -287,12 +296,7 @@ TEST(Studio, ATimelineUndoCannotWalkIsRefusedOnOpening) {
         std::string text = good;
         text.insert(open, c.steps);
         writeFile(file, text);
-        std::string what;
-        try {
-            Studio::openProject(dir.path, smallConfig());
-        } catch (const std::invalid_argument& e) {
-            what = e.what();
-        }
+        const std::string what = openingError(dir.path);
         EXPECT_EQ(what, file.string() + ": " + c.expected);
         EXPECT_EQ(readFile(file), text);
     }
@@ -329,12 +333,7 @@ TEST(Studio, ASketchFileValueOfTheWrongTypeIsNamedByItsKey) {
         nlohmann::json j = good;
         c.damage(j);
         writeFile(file, j.dump(1));
-        std::string what;
-        try {
-            Studio::openProject(dir.path, smallConfig());
-        } catch (const std::invalid_argument& e) {
-            what = e.what();
-        }
+        const std::string what = openingError(dir.path);
         EXPECT_EQ(what, file.string() + ": " + c.expected);
     }
 }

@@ -226,7 +226,8 @@ void Studio::loadSketchFile() {
     // sketch steps than actions its log can undo or redo (a page may keep redo actions the
     // timeline dropped when a later step was taken elsewhere).
     auto agree = [&](const std::vector<Step>& steps, size_t lineCount, const char* key,
-                     const char* linesKey, size_t (studio::SketchPage::*actions)() const) {
+                     const char* linesKey, size_t (studio::SketchPage::*actions)() const,
+                     const char* verb) {
         size_t lines = 0;
         std::vector<size_t> perPage(mDocument.pageCount(), 0);
         for (const Step& s : steps) {
@@ -244,12 +245,12 @@ void Studio::loadSketchFile() {
                 throw std::invalid_argument(
                     where + key + ": " + std::to_string(perPage[p]) + " sketch step(s) on page " +
                     std::to_string(p) + ", whose log holds " +
-                    std::to_string((mDocument.page(p).*actions)()) + " action(s) to " +
-                    (std::string(key) == "timeline" ? "undo" : "redo"));
+                    std::to_string((mDocument.page(p).*actions)()) + " action(s) to " + verb);
     };
-    agree(mDone, mSurfaceLines.size(), "timeline", "surface_lines", &studio::SketchPage::undoCount);
+    agree(mDone, mSurfaceLines.size(), "timeline", "surface_lines", &studio::SketchPage::undoCount,
+          "undo");
     agree(mUndone, mUndoneSurfaceLines.size(), "redo", "redo_surface_lines",
-          &studio::SketchPage::redoCount);
+          &studio::SketchPage::redoCount, "redo");
     mWrittenDone = mDone;
     mWrittenUndone = mUndone;
     const ReconciledTimeline t = reconciledTimeline(

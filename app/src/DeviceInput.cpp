@@ -360,6 +360,10 @@ struct DeviceInput::State {
         n.droppedBytes += t.decoder->droppedBytes() - droppedBefore;
         for (const auto& s : samples) {
             if (!s.hasPosition) continue;
+            if (!(glm::length(s.positionMm) <= kTrackerReachMm)) {  // NaN too
+                ++n.outOfReach;
+                continue;
+            }
             if (cfg.objectStation != 0 && s.station == cfg.objectStation) {
                 const core::RigidTransform worldFromStation =
                     worldFromTracker *
@@ -501,6 +505,7 @@ std::string DeviceInput::summary() const {
         if (c.droppedBytes) s << ", " << c.droppedBytes << " bytes skipped";
         if (c.outOfOrder) s << ", " << c.outOfOrder << " out of order";
         if (c.rejectedEdits) s << ", " << c.rejectedEdits << " tool samples refused";
+        if (c.outOfReach) s << ", " << c.outOfReach << " out of reach (dropped)";
         if (c.departures) s << ", left " << c.departures << "x";
         if (c.stalls) s << ", stalled " << c.stalls << "x";
         s << "\n";

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/app/XrInput.h"
 
+#include "vsculpt/app/DeviceInput.h"
+
 #include "vsculpt/devices/XrBindings.h"
 #include "vsculpt/studio/Session.h"
 
@@ -195,7 +197,12 @@ void XrInput::handle(const XrHands& h) {
 
     // The left hand holds the sculpture while the grip is closed (position control, like the
     // tracker's object station).
-    if (h.grip && h.worldFromMouse) {
+    // A pose beyond any room (kTrackerReachMm from the stage's origin) is a glitch: taken as
+    // lost tracking, for the hand that holds the sculpture as for the pen.
+    auto inReach = [](const std::optional<glm::dmat4>& pose) {
+        return pose && glm::length(glm::dvec3((*pose)[3])) <= kTrackerReachMm;
+    };
+    if (h.grip && inReach(h.worldFromMouse)) {
         const core::RigidTransform worldFromHand = rigidOf(*h.worldFromMouse);
         if (!mHandFromObject) mHandFromObject = worldFromHand.inverse() * session.objectPose();
         mStudio.setObjectPose(worldFromHand * *mHandFromObject);
@@ -203,7 +210,7 @@ void XrInput::handle(const XrHands& h) {
         mHandFromObject.reset();
     }
 
-    if (!h.worldFromPen) {
+    if (!inReach(h.worldFromPen)) {
         // Lost tracking ends the stroke: nothing is sculpted from a stale pose.
         if (mEngaged) guarded("pen", [&] { mInteraction.setEngaged(false); });
         mEngaged = false;

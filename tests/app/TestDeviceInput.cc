@@ -126,6 +126,35 @@ TEST(DeviceInput, TrackerPenSculptsAndStartsTheTracker) {
     EXPECT_EQ(input.counters().at("tracker").departures, 1u);
 }
 
+// Found by fuzzing recordings: one tracker record at 1 km mid-stroke swept the tool along a
+// 1 km line (41 s, 2.1 GB). A pose beyond any tracker's reach is a glitch: dropped, counted,
+// and the stroke goes on from the last good sample as if the record had not come.
+TEST(DeviceInput, APoseBeyondAnyTrackersReachIsDroppedAsAGlitch) {
+    const core::SculptConfig cfg = config();
+    Studio plain(cfg), glitched(cfg);
+    for (Studio* studio : {&plain, &glitched}) {
+        Interaction ui(*studio, /*alwaysEngaged=*/true);
+        DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, *studio);
+        input.handle(arrived(0, "tracker", 0x0f44, 0xff20));
+        const auto stroke = penStroke(kMs, 30, 3.2);
+        for (size_t i = 0; i < stroke.size(); ++i) {
+            input.handle(stroke[i]);
+            if (studio == &glitched && i == 14) {
+                input.handle(test::report(stroke[i].timeNs + kMs, "tracker",
+                                          test::libertyRecord(1, 99999.0, 0.0, 3.2, 100)));
+            }
+        }
+        input.handle({DeviceEventKind::Left, 400 * kMs, "tracker", {}});
+        EXPECT_EQ(input.counters().at("tracker").samples, 30u);
+        EXPECT_EQ(input.counters().at("tracker").outOfReach, studio == &glitched ? 1u : 0u);
+        EXPECT_NEAR(input.toolWorld().value_or(core::Vec3(0.0)).x, 14.0, 1e-4);
+    }
+    EXPECT_EQ(plain.session().sculpture().counts().total(),
+              glitched.session().sculpture().counts().total());
+    EXPECT_EQ(core::canonicalMeshHash(plain.session().wholeMesh()),
+              core::canonicalMeshHash(glitched.session().wholeMesh()));
+}
+
 TEST(DeviceInput, HandHeldObjectStationMovesTheSculpture) {
     core::SculptConfig cfg = config();
     cfg.devices.objectStation = 3;

@@ -38,6 +38,11 @@ namespace vsculpt::app {
 /// The device rules of a config: its "devices.match" list, or the built-in table.
 std::vector<devices::DeviceRule> deviceRules(const core::DevicesConfig& cfg);
 
+/// No tracker and no room-scale headset reaches farther from its origin (a Polhemus field a
+/// few metres, a room): a pose beyond is a glitch, dropped. A stroke to it would sweep the tool
+/// across kilometres of lattice (seconds and gigabytes, found by fuzzing recordings).
+inline constexpr double kTrackerReachMm = 10'000;
+
 struct DeviceCounters {
     uint64_t reports = 0;        ///< report events seen
     uint64_t samples = 0;        ///< decoded samples used
@@ -45,6 +50,7 @@ struct DeviceCounters {
     uint64_t droppedBytes = 0;   ///< stream bytes skipped while resynchronising (trackers)
     uint64_t outOfOrder = 0;     ///< samples older than the previous one, dropped
     uint64_t rejectedEdits = 0;  ///< tool samples the sculpture could not take
+    uint64_t outOfReach = 0;     ///< poses beyond kTrackerReachMm from the tracker, dropped
     uint64_t arrivals = 0, departures = 0, stalls = 0;
 };
 

@@ -114,8 +114,15 @@ std::string errnoText(int err) {
 }
 
 std::string readAll(const fs::path& path) {
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    // O_NONBLOCK: opening a pipe planted at a project file's name must not wait for a writer;
+    // only a regular file is read (a pipe would block the read, /dev/zero never end).
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (fd < 0) throw ProjectError(path.string() + ": cannot open: " + errnoText(errno));
+    struct stat st {};
+    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        ::close(fd);
+        throw ProjectError(path.string() + ": not a regular file");
+    }
     std::string data;
     char buf[1 << 16];
     for (;;) {

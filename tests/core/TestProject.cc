@@ -638,6 +638,39 @@ TEST(Project, AJournalCutAfterDamageIsFirstKeptWhole) {
     }
 }
 
+// Found by fuzzing: a pipe at journal.vjl blocked opening forever, a snapshot symlinked to
+// /dev/zero read until memory ran out. Only regular files are read: the pipe is refused at
+// once, the snapshot that is none falls back to the backup like a damaged one.
+TEST(Project, ProjectFilesThatAreNotRegularFilesAreNeverRead) {
+    TempDir dir;
+    Sculptor s;
+    {
+        JournalWriter j(journalPath(dir.path), 0);
+        s.stroke(j, ToolOp::Add, 4, {-20, 0, 0}, {20, 0, 0});
+        s.save(dir.path, j);
+        s.save(dir.path, j);  // the backup pair holds the stroke too
+    }
+    const std::vector<Entry> saved = entries(s.sculpture);
+    fs::remove(snapshotPath(dir.path));
+    fs::create_symlink("/dev/zero", snapshotPath(dir.path));
+    const Reopened r(dir.path);
+    EXPECT_TRUE(r.project.fromBackup);
+    ASSERT_FALSE(r.project.warnings.empty());
+    EXPECT_EQ(r.project.warnings[0].rfind(
+                  snapshotPath(dir.path).string() + ": not a regular file; recovered from", 0),
+              0u)
+        << allWarnings(r.project);
+    EXPECT_EQ(entries(*r.sculpture), saved);
+    fs::remove(journalPath(dir.path));
+    ASSERT_EQ(::mkfifo(journalPath(dir.path).c_str(), 0644), 0);
+    try {
+        readProject(dir.path);
+        ADD_FAILURE() << "a pipe read as a journal";
+    } catch (const ProjectError& e) {
+        EXPECT_EQ(std::string(e.what()), journalPath(dir.path).string() + ": not a regular file");
+    }
+}
+
 TEST(Project, ADamagedSnapshotIsRecoveredFromTheBackupAndBothJournals) {
     TempDir dir;
     Sculptor s;

@@ -263,6 +263,8 @@ std::string strokeProblem(const StrokeRecord& r) {
 
 std::string recordProblem(const JournalRecord& r) {
     if (r.sequence == 0) return "sequence 0 (sequence numbers start at 1)";
+    if (r.sequence >= kMaxSequence)
+        return "sequence " + std::to_string(r.sequence) + " out of range";
     switch (r.op) {
         case JournalOp::Stroke:
             if (std::string p = levelProblem(r.level); !p.empty()) return p;
@@ -408,6 +410,9 @@ std::string encodeRecord(const JournalRecord& rec) {
 std::string encodeSnapshot(const fs::path& path, const std::string& configJson,
                            uint64_t lastSequence, const Sculpture& sculpture,
                            const History& history) {
+    if (lastSequence >= kMaxSequence)
+        throw ProjectError(path.string() + ": last sequence " + std::to_string(lastSequence) +
+                           " out of range; nothing written");
     Writer w;
     w.bytes.append(kSnapshotMagic, kMagicBytes);
     w.pod(lastSequence);
@@ -513,6 +518,8 @@ JournalScan scanJournal(const fs::path& path) {
             decodeRecordBody(r, rec);
             if (rec.sequence == 0)
                 problem = "sequence 0 (sequence numbers start at 1)";
+            else if (rec.sequence >= kMaxSequence)
+                problem = "sequence " + std::to_string(rec.sequence) + " out of range";
             else if (expected != 0 && rec.sequence != expected)
                 problem = "out of order (expected sequence " + std::to_string(expected) + ")";
         } catch (const DecodeError& e) {
@@ -741,6 +748,8 @@ SnapshotContents readSnapshot(const fs::path& path) {
     std::string entry;  // what is being decoded, for the message
     try {
         out.lastSequence = r.pod<uint64_t>();
+        if (out.lastSequence >= kMaxSequence)
+            r.fail("last sequence " + std::to_string(out.lastSequence) + " out of range");
         out.configJson = r.str();
         const uint64_t n = r.pod<uint64_t>();
         if (n > r.left() / kSkeletonBytes)

@@ -904,6 +904,14 @@ TEST(Project, WritersRefuseWhatReadersWouldRefuse) {
     }
     EXPECT_THROW(j.append(strokeRecord(3, ToolOp::Add, 4, {0, 0, 0}, {9, 0, 0})), ProjectError);
     EXPECT_EQ(fs::file_size(journalPath(dir.path)), size);
+    {
+        // A new writer takes any first sequence number below kMaxSequence, none from it on.
+        JournalWriter fresh(dir.path / "fresh.vjl", 0);
+        EXPECT_THROW(fresh.append(strokeRecord(kMaxSequence, ToolOp::Add, 4, {0, 0, 0}, {9, 0, 0})),
+                     ProjectError);
+        fresh.append(strokeRecord(kMaxSequence - 1, ToolOp::Add, 4, {0, 0, 0}, {9, 0, 0}));
+        EXPECT_EQ(readJournal(dir.path / "fresh.vjl").records.size(), 1u);
+    }
     j.append(strokeRecord(2, ToolOp::Add, 4, {0, 0, 0}, {9, 0, 0}));
     EXPECT_EQ(readJournal(journalPath(dir.path)).records.size(), 2u);
     // Continuing beyond the file's end would put zeros where records go.
@@ -922,6 +930,10 @@ TEST(Project, WritersRefuseWhatReadersWouldRefuse) {
         EXPECT_NE(std::string(e.what()).find("skeleton 1: weight is infinite"), std::string::npos)
             << e.what();
     }
+    EXPECT_EQ(readFile(snapshotPath(dir.path)), good);
+    EXPECT_THROW(
+        writeSnapshot(snapshotPath(dir.path), "{}", kMaxSequence, Sculpture(config()), history),
+        ProjectError);
     EXPECT_EQ(readFile(snapshotPath(dir.path)), good);
 }
 
@@ -1132,6 +1144,10 @@ TEST(Project, ABadSnapshotValueIsNamedAndTheBackupIsUsed) {
          "skeleton 1: lattice x 4194304 is beyond +-4194303"},
         {"count", [&](std::string& b) { put(b, skeletons - 8, uint64_t(1) << 60); },
          "1152921504606846976 skeletons, more than the file holds"},
+        // Found by fuzzing: 2^64 - 1 opened, and every edit then failed (the next record's
+        // sequence number wrapped to 0), blamed on the script's line.
+        {"last sequence", [&](std::string& b) { put(b, 8, ~uint64_t(0)); },
+         "last sequence 18446744073709551615 out of range"},
         {"history sample",
          [&](std::string& b) { put(b, undo + 6, std::numeric_limits<double>::infinity()); },
          "undo step 1: sample 1 x is infinite"},

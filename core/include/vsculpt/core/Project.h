@@ -47,6 +47,10 @@ inline constexpr double kMaxProjectCoordinateMm = 1.0e6;
 /// (exactly -1, 0, 1 in thesis mode); the bound is loose on purpose, so no sculpted value is
 /// ever refused, and only garbage (1e30, a flipped exponent bit) is.
 inline constexpr float kMaxSkeletonWeight = 1.0e6f;
+/// Sequence numbers (of journal records, and the snapshot's last one) stay below this: an edit
+/// a second for 10^11 years, so only a damaged number reaches it, and the next record's number
+/// can never wrap to 0 (found by fuzzing: a snapshot claiming 2^64 - 1 made every edit fail).
+inline constexpr uint64_t kMaxSequence = uint64_t(1) << 62;
 
 enum class JournalOp : uint8_t { Stroke = 1, Undo = 2, Redo = 3, Solid = 4 };
 

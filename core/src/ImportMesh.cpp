@@ -565,10 +565,14 @@ Mesh importMesh(const std::filesystem::path& path, const ImportOptions& options,
                        std::to_string(kMaxFileBytes >> 20) + " MiB)");
     if (!ec && bytes == 0) fail(name, "empty file");
     if (ext == ".ply") {
-        // Assimp hangs on a PLY header cut short and crashes on damaged ones: checked here.
+        // Assimp hangs on a PLY header cut short and crashes on damaged ones: checked here,
+        // on the header only (Assimp reads the whole file after).
         std::ifstream in(path, std::ios::binary);
-        const std::string all{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-        if (const std::string problem = plyHeaderProblem(all); !problem.empty())
+        std::string start(kMaxPlyHeaderBytes, '\0');
+        in.read(start.data(), std::streamsize(start.size()));
+        start.resize(size_t(in.gcount()));
+        if (const std::string problem = plyHeaderProblem(start, ec ? start.size() : bytes);
+            !problem.empty())
             throw ImportError(name + ":" + problem);
     }
 

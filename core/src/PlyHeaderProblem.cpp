@@ -11,8 +11,6 @@ namespace vsculpt::core {
 
 namespace {
 
-constexpr size_t kMaxHeaderBytes = 64 * 1024;
-
 /// Bytes of a PLY scalar type, 0 for a name that is not one.
 size_t typeBytes(const std::string& t) {
     if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
@@ -26,8 +24,8 @@ size_t typeBytes(const std::string& t) {
 
 }  // namespace
 
-std::string plyHeaderProblem(std::string_view bytes) {
-    const std::string_view head = bytes.substr(0, std::min(bytes.size(), kMaxHeaderBytes));
+std::string plyHeaderProblem(std::string_view start, uint64_t fileBytes) {
+    const std::string_view head = start.substr(0, std::min(start.size(), kMaxPlyHeaderBytes));
     bool binary = false, haveFormat = false;
     uint64_t minimumBody = 0;  // bytes the elements need at least (binary formats)
     uint64_t elementBytes = 0, elementCount = 0;
@@ -107,7 +105,7 @@ std::string plyHeaderProblem(std::string_view bytes) {
             if (line != "end_header") return at + "expected 'end_header' alone";
             if (!haveFormat) return at + "no format line before end_header";
             closeElement();
-            const uint64_t body = bytes.size() - pos;
+            const uint64_t body = fileBytes > pos ? fileBytes - pos : 0;
             if (binary && body < minimumBody)
                 return at + "the elements need at least " + std::to_string(minimumBody) +
                        " bytes after the header, the file has " + std::to_string(body);
@@ -117,7 +115,7 @@ std::string plyHeaderProblem(std::string_view bytes) {
         }
     }
     return std::to_string(lineNo) + ": the header ends without 'end_header'" +
-           (bytes.size() > kMaxHeaderBytes ? " in its first 64 KiB" : "");
+           (fileBytes > kMaxPlyHeaderBytes ? " in its first 64 KiB" : "");
 }
 
 }  // namespace vsculpt::core

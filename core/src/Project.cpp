@@ -113,7 +113,9 @@ std::string errnoText(int err) {
     return std::strerror(err);
 }
 
-std::string readAll(const fs::path& path) {
+}  // namespace
+
+std::string readProjectFile(const fs::path& path) {
     // O_NONBLOCK: opening a pipe planted at a project file's name must not wait for a writer;
     // only a regular file is read (a pipe would block the read, /dev/zero never end).
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
@@ -139,6 +141,8 @@ std::string readAll(const fs::path& path) {
     ::close(fd);
     return data;
 }
+
+namespace {
 
 /// Throws ProjectError unless `data` starts with `magic`; names another version as such.
 void checkMagic(const std::string& data, const char (&magic)[8], const fs::path& path,
@@ -470,7 +474,7 @@ JournalScan scanJournal(const fs::path& path) {
     JournalScan out;
     std::error_code ec;
     if (!fs::exists(path, ec)) return out;
-    const std::string data = readAll(path);
+    const std::string data = readProjectFile(path);
     if (data.size() < kMagicBytes) {
         if (!data.empty())
             out.warning = path.string() + ": shorter than its header; treated as empty";
@@ -569,8 +573,7 @@ fs::path keepBeforeCutting(int fd, const fs::path& path, off_t size) {
         done += size_t(n);
     }
     for (int i = 1;; ++i) {
-        fs::path copy = path;
-        copy += i == 1 ? ".damaged" : ".damaged-" + std::to_string(i);
+        const fs::path copy = damagedName(path, i);
         std::error_code ec;
         if (fs::exists(fs::symlink_status(copy, ec))) continue;
         try {
@@ -725,7 +728,7 @@ namespace {
 
 /// The snapshot file's bytes once its magic, version and checksum are right.
 std::string readCheckedSnapshot(const fs::path& path) {
-    std::string data = readAll(path);
+    std::string data = readProjectFile(path);
     if (data.size() < kMagicBytes + 4)
         throw ProjectError(path.string() + ": byte 0: not a vsculpt snapshot (" +
                            std::to_string(data.size()) + " bytes)");
@@ -834,7 +837,7 @@ void keepAs(const fs::path& from, const fs::path& to) {
         replaceWithHardLink(from, to, false);
     } catch (const FileWriteError& e) {
         if (!cannotLink(e.code())) throw;
-        writeFileAtomically(to, readAll(from), false);
+        writeFileAtomically(to, readProjectFile(from), false);
     }
 }
 

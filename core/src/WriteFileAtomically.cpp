@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <random>
 
@@ -147,6 +148,36 @@ void replaceWithHardLink(const fs::path& existing, const fs::path& target, bool 
     ::unlinkat(dirFd.get(), tmp.c_str(), 0);
     if (durable && ::fsync(dirFd.get()) != 0)
         fail(target, "was replaced, but its folder could not be flushed to disk", errno);
+}
+
+fs::path damagedName(const fs::path& path, int n) {
+    fs::path out = path;
+    out += n == 1 ? ".damaged" : ".damaged-" + std::to_string(n);
+    return out;
+}
+
+fs::path setAsideAsDamaged(const fs::path& path, bool durable) {
+    requireFileName(path);
+    const fs::path dir = folderOf(path);
+    FdGuard dirFd(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
+    if (dirFd.get() < 0) fail(path, "cannot open its folder " + dir.string(), errno);
+    const std::string name = path.filename().string();
+    for (int n = 1;; ++n) {
+        const fs::path kept = damagedName(path, n);
+        // RENAME_NOREPLACE: a copy kept earlier is never replaced, even by a racing process.
+        if (::renameat2(dirFd.get(), name.c_str(), dirFd.get(), kept.filename().c_str(),
+                        RENAME_NOREPLACE) == 0) {
+            if (durable && ::fsync(dirFd.get()) != 0)
+                fail(path,
+                     "was set aside as " + kept.string() +
+                         ", but its folder could not be flushed to disk",
+                     errno);
+            return kept;
+        }
+        const int err = errno;
+        if (err == EEXIST && n < 10000) continue;
+        fail(path, "cannot set it aside as " + kept.string(), err);
+    }
 }
 
 void ensureWritable(const fs::path& path) {

@@ -134,17 +134,14 @@ std::unique_ptr<Session> Session::openProject(const std::filesystem::path& dir,
         ++s->mRecovered;
     }
     for (const std::string& w : found.warnings)
-        s->mRecoveryWarning += (s->mRecoveryWarning.empty() ? "" : "\n") + w;
-    if (!lockNote.empty())
-        s->mRecoveryWarning += (s->mRecoveryWarning.empty() ? "" : "\n") + lockNote;
+        s->addRecoveryWarning(w);
+    if (!lockNote.empty()) s->addRecoveryWarning(lockNote);
     if (!readOnly) {
         s->mJournal = std::make_unique<JournalWriter>(journalPath(dir), found.journalValidBytes);
         if (const std::filesystem::path& kept = s->mJournal->keptDamaged(); !kept.empty())
-            s->mRecoveryWarning += (s->mRecoveryWarning.empty() ? "" : "\n") +
-                                   journalPath(dir).string() +
-                                   " as it was (with what could not be "
-                                   "replayed) is kept in " +
-                                   kept.string();
+            s->addRecoveryWarning(journalPath(dir).string() +
+                                  " as it was (with what could not be replayed) is kept in " +
+                                  kept.string());
     }
     s->mLock = std::move(lock);
     s->rebuildView();

@@ -4,6 +4,7 @@
 #include "vsculpt/studio/SketchSolids.h"
 
 #include "vsculpt/core/JsonNesting.h"
+#include "vsculpt/core/Project.h"
 #include "vsculpt/core/WriteFileAtomically.h"
 
 #include <glm/gtc/quaternion.hpp>
@@ -14,8 +15,6 @@
 
 #include <cerrno>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
 #include <spdlog/spdlog.h>
@@ -69,7 +68,42 @@ Studio::Studio(std::unique_ptr<Session> session, const studio::SketchParams& par
     mPlanes.assign(mDocument.pageCount(), SketchPlane::Front);
     if (!mSession->projectDir()) return;
     mFile = *mSession->projectDir() / "sketch.json";
-    if (std::filesystem::exists(*mFile)) loadSketchFile();
+    std::error_code ec;
+    if (!std::filesystem::exists(std::filesystem::symlink_status(*mFile, ec))) return;
+    const std::vector<Step> sculptDone = mDone, sculptUndone = mUndone;
+    try {
+        loadSketchFile();
+    } catch (const std::invalid_argument& e) {
+        openWithoutSketchFile(e.what(), sculptDone, sculptUndone);
+    }
+}
+
+void Studio::openWithoutSketchFile(const std::string& why, std::vector<Step> sculptDone,
+                                   std::vector<Step> sculptUndone) {
+    // The sculpture, its snapshot and journal are intact: a damaged sketch file costs the
+    // sketch pages, never the project. Kept byte for byte under another name first, so the
+    // next sketch write (a new, empty file) cannot replace it.
+    std::string kept;
+    if (mSession->readOnly()) {
+        kept = "read-only, so the file is left as it is";
+    } else {
+        try {
+            kept = "the file is kept as " + core::setAsideAsDamaged(*mFile, true).string();
+        } catch (const core::FileWriteError& e) {
+            throw std::invalid_argument(why + " (and it could not be set aside: " + e.what() + ")");
+        }
+    }
+    mDocument = studio::SketchDocument(mDocument.params());
+    mPlanes.assign(mDocument.pageCount(), SketchPlane::Front);
+    mSurfaceLines.clear();
+    mUndoneSurfaceLines.clear();
+    mDone = std::move(sculptDone);
+    mUndone = std::move(sculptUndone);
+    mWrittenDone.clear();
+    mWrittenUndone.clear();
+    mSculptSteps = mSession->history().done().size();
+    mSession->addRecoveryWarning(why + "; the project opens with empty sketch pages (" + kept +
+                                 ")");
 }
 
 std::unique_ptr<Studio> Studio::openProject(const std::filesystem::path& dir,
@@ -134,15 +168,18 @@ Studio::ReconciledTimeline Studio::reconciledTimeline(std::vector<Step> done,
 
 void Studio::loadSketchFile() {
     const studio::SketchParams params = mDocument.params();
-    std::ifstream in(*mFile, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
+    std::string text;
+    try {
+        text = core::readProjectFile(*mFile);
+    } catch (const core::ProjectError& e) {
+        throw std::invalid_argument(e.what());  // damaged as far as opening is concerned
+    }
     const std::string where = mFile->string() + ": ";
-    if (const auto deep = core::jsonNestingBeyond(text.str()))
+    if (const auto deep = core::jsonNestingBeyond(text))
         throw std::invalid_argument(mFile->string() + ":" + *deep);
     nlohmann::json j;
     try {
-        j = nlohmann::json::parse(text.str());
+        j = nlohmann::json::parse(text);
     } catch (const nlohmann::json::exception& e) {
         throw std::invalid_argument(where + "not valid JSON (" + e.what() + ")");
     }

@@ -233,51 +233,70 @@ TEST(Studio, ProjectKeepsTheSketchAndTheTimeline) {
 
 namespace {
 
-/// Why opening the project in `dir` is refused (std::invalid_argument), or "" when it opens.
-std::string openingError(const std::filesystem::path& dir) {
-    try {
-        Studio::openProject(dir, smallConfig());
-    } catch (const std::invalid_argument& e) {
-        return e.what();
+/// A project with a solid made from a sketch (sculpt and sketch steps on its timeline); its
+/// mesh hash.
+uint64_t projectWithASketchedSolid(const std::filesystem::path& dir) {
+    auto studioPtr = Studio::openProject(dir, smallConfig());
+    run(*studioPtr, kOutline + "solid inflate\n");
+    return core::canonicalMeshHash(studioPtr->session().view().mesh());
+}
+
+/// Opens the project in `dir`, whose sketch.json cannot be read, and returns the recovery
+/// warning. What a damaged sketch.json must cost is the sketch pages, never the sculpture:
+/// the sculpture opens with its mesh (`mesh`) and every sculpt step to undo, the journal is
+/// untouched, and the damaged bytes are kept as sketch.json.damaged (removed again here, so
+/// that the next case is kept under the same name).
+std::string openedPastADamagedSketchFile(const std::filesystem::path& dir, uint64_t mesh) {
+    const auto file = dir / "sketch.json", kept = dir / "sketch.json.damaged";
+    const std::string damaged = readFile(file), journal = readFile(dir / "journal.vjl");
+    std::string warning;
+    {
+        auto studioPtr = Studio::openProject(dir, smallConfig());
+        const Studio& studio = *studioPtr;
+        const Session& session = studio.session();
+        warning = session.recoveryWarning();
+        EXPECT_EQ(core::canonicalMeshHash(session.view().mesh()), mesh);
+        EXPECT_EQ(studio.timeline().size(), session.history().done().size());
+        for (const Studio::Step& step : studio.timeline())
+            EXPECT_TRUE(step.sculpt());
+        EXPECT_EQ(studio.document().toJson(), SketchDocument(studio.document().params()).toJson());
+        EXPECT_TRUE(studio.surfaceLines().empty());
+        EXPECT_FALSE(std::filesystem::exists(file));
+        EXPECT_EQ(readFile(kept), damaged);
+        EXPECT_NE(warning.find("the file is kept as " + kept.string()), std::string::npos)
+            << warning;
     }
-    return "";
+    EXPECT_EQ(readFile(dir / "journal.vjl"), journal);
+    std::filesystem::remove(kept);
+    return warning;
 }
 
 }  // namespace
 
 // Found by fuzzing: a sketch.json holding 200 000 nested arrays in its document overflowed the
-// stack (the loader writes the document back out, recursively). Opening now names the file,
-// line and column and leaves every file of the project as it was.
-TEST(Studio, ASketchFileNestedTooDeepIsRefusedWithItsLine) {
+// stack (the loader writes the document back out, recursively). The file is now named with its
+// line and column, and set aside: the sculpture opens.
+TEST(Studio, ASketchFileNestedTooDeepIsSetAsideWithItsLine) {
     TempDir dir;
-    {
-        auto studioPtr = Studio::openProject(dir.path, smallConfig());
-        run(*studioPtr, kOutline + "solid inflate\n");
-    }
+    const uint64_t mesh = projectWithASketchedSolid(dir.path);
     const auto file = dir.path / "sketch.json";
     std::string text = readFile(file);
     const size_t at = text.find("\"document\"");
     ASSERT_NE(at, std::string::npos);
     text.insert(at, "\"junk\": " + std::string(200000, '[') + std::string(200000, ']') + ",\n");
     writeFile(file, text);
-    const std::string journal = readFile(dir.path / "journal.vjl");
-    const std::string what = openingError(dir.path);
+    const std::string what = openedPastADamagedSketchFile(dir.path, mesh);
     EXPECT_NE(what.find(file.string() + ":"), std::string::npos) << what;
     EXPECT_NE(what.find(": nested more than 64 levels deep"), std::string::npos) << what;
-    EXPECT_EQ(readFile(file), text);
-    EXPECT_EQ(readFile(dir.path / "journal.vjl"), journal);
 }
 
 // Found by fuzzing: a timeline undo cannot walk. Surface-line counts of 2^63 twice summed to 0
 // and passed the check, then undo popped an empty list (SIGSEGV); a sketch step on a page whose
 // log has nothing to undo reached Studio::undo's invariant (an abort under the headset's input).
-// Opening now refuses both, naming the file and the key, and changes no file.
-TEST(Studio, ATimelineUndoCannotWalkIsRefusedOnOpening) {
+// Opening now names the file and the key, and sets the file aside.
+TEST(Studio, ATimelineUndoCannotWalkIsSetAsideOnOpening) {
     TempDir dir;
-    {
-        auto studioPtr = Studio::openProject(dir.path, smallConfig());
-        run(*studioPtr, kOutline + "solid inflate\n");
-    }
+    const uint64_t mesh = projectWithASketchedSolid(dir.path);
     const auto file = dir.path / "sketch.json";
     const std::string good = readFile(file);
     const std::string key = "\"timeline\": [";
@@ -296,9 +315,8 @@ TEST(Studio, ATimelineUndoCannotWalkIsRefusedOnOpening) {
         std::string text = good;
         text.insert(open, c.steps);
         writeFile(file, text);
-        const std::string what = openingError(dir.path);
-        EXPECT_EQ(what, file.string() + ": " + c.expected);
-        EXPECT_EQ(readFile(file), text);
+        const std::string what = openedPastADamagedSketchFile(dir.path, mesh);
+        EXPECT_EQ(what.rfind(file.string() + ": " + c.expected + "; ", 0), 0u) << what;
     }
 }
 
@@ -306,10 +324,7 @@ TEST(Studio, ATimelineUndoCannotWalkIsRefusedOnOpening) {
 // ("type must be string, but is number", "cannot use operator[] with a numeric argument").
 TEST(Studio, ASketchFileValueOfTheWrongTypeIsNamedByItsKey) {
     TempDir dir;
-    {
-        auto studioPtr = Studio::openProject(dir.path, smallConfig());
-        run(*studioPtr, kOutline + "solid inflate\n");
-    }
+    const uint64_t mesh = projectWithASketchedSolid(dir.path);
     const auto file = dir.path / "sketch.json";
     const nlohmann::json good = nlohmann::json::parse(readFile(file));
     ASSERT_FALSE(good["timeline"].empty());
@@ -333,8 +348,54 @@ TEST(Studio, ASketchFileValueOfTheWrongTypeIsNamedByItsKey) {
         nlohmann::json j = good;
         c.damage(j);
         writeFile(file, j.dump(1));
-        const std::string what = openingError(dir.path);
-        EXPECT_EQ(what, file.string() + ": " + c.expected);
+        const std::string what = openedPastADamagedSketchFile(dir.path, mesh);
+        EXPECT_EQ(what.rfind(file.string() + ": " + c.expected + "; ", 0), 0u) << what;
+    }
+}
+
+// A damaged sketch.json used to refuse the whole project: the sculpture, its snapshot and its
+// journal intact, yet nothing opened until the file was moved away by hand. Now the sketch
+// pages start empty and the file is kept; later sketching writes a new sketch.json, a second
+// damaged one is kept beside the first, and a read-only reader (render) changes nothing.
+TEST(Studio, ADamagedSketchFileCostsTheSketchPagesNeverTheSculpture) {
+    TempDir dir;
+    const uint64_t mesh = projectWithASketchedSolid(dir.path);
+    const auto file = dir.path / "sketch.json";
+    const std::string damaged = "{\"format\": \"vsculpt-studio\", \"version\": 1, \"docu";
+    writeFile(file, damaged);
+    {
+        auto reader = Studio::openProject(dir.path, smallConfig(), ProjectMode::ReadOnly);
+        EXPECT_EQ(core::canonicalMeshHash(reader->session().view().mesh()), mesh);
+        const std::string& what = reader->session().recoveryWarning();
+        EXPECT_NE(what.find(file.string() + ": not valid JSON"), std::string::npos) << what;
+        EXPECT_NE(what.find("read-only, so the file is left as it is"), std::string::npos) << what;
+    }
+    EXPECT_EQ(readFile(file), damaged);
+    State sketched;
+    {
+        auto studioPtr = Studio::openProject(dir.path, smallConfig());
+        Studio& studio = *studioPtr;
+        EXPECT_EQ(core::canonicalMeshHash(studio.session().view().mesh()), mesh);
+        EXPECT_EQ(readFile(dir.path / "sketch.json.damaged"), damaged);
+        // Undo walks back through the sculpt steps the journal has, then redoes them.
+        ASSERT_EQ(studio.timeline().size(), 1u);
+        studio.undo();
+        EXPECT_NE(core::canonicalMeshHash(studio.session().view().mesh()), mesh);
+        studio.redo();
+        EXPECT_EQ(core::canonicalMeshHash(studio.session().view().mesh()), mesh);
+        run(studio, linePen(0, 30, 20, 30));
+        sketched = state(studio);
+    }
+    {
+        auto studioPtr = Studio::openProject(dir.path, smallConfig());
+        EXPECT_EQ(state(*studioPtr), sketched);
+        EXPECT_EQ(studioPtr->session().recoveryWarning(), "");
+    }
+    writeFile(file, "not json either");
+    {
+        auto studioPtr = Studio::openProject(dir.path, smallConfig());
+        EXPECT_EQ(readFile(dir.path / "sketch.json.damaged"), damaged);
+        EXPECT_EQ(readFile(dir.path / "sketch.json.damaged-2"), "not json either");
     }
 }
 

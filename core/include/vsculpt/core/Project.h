@@ -83,6 +83,11 @@ struct JournalContents {
 /// header is not a version 01 journal's.
 JournalContents readJournal(const std::filesystem::path& path);
 
+/// A project file's bytes, read whole. Only a regular file is read: a pipe planted at its name
+/// would block, /dev/zero never end (opened non-blocking, then checked). Throws ProjectError
+/// naming `path` and the reason.
+std::string readProjectFile(const std::filesystem::path& path);
+
 /// Appends records, each flushed to disk (fdatasync) before append() returns.
 class JournalWriter {
   public:

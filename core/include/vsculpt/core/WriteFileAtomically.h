@@ -65,6 +65,16 @@ void replaceWithHardLink(const std::filesystem::path& existing, const std::files
 /// or the disk fill before the write.
 void ensureWritable(const std::filesystem::path& path);
 
+/// The name a damaged file is kept under: `path`.damaged for n = 1, `path`.damaged-n after.
+std::filesystem::path damagedName(const std::filesystem::path& path, int n);
+
+/// Renames the damaged file `path` to the first damagedName(path, n) that names nothing, never
+/// replacing a file kept earlier, and returns that name. The bytes stay exactly as they were
+/// (a rename, not a copy), so what could not be read is there to rescue by hand, and `path`
+/// is free for a good file. With `durable`, the folder is fsynced afterwards. Throws
+/// FileWriteError naming `path`.
+std::filesystem::path setAsideAsDamaged(const std::filesystem::path& path, bool durable);
+
 namespace detail {
 /// For tests: the temporary name tried with number `n` for a target named `fileName`...
 std::string temporaryName(const std::string& fileName, uint64_t n);

@@ -180,6 +180,11 @@ class Session {
     /// Wall time of each tool sample (placement + mesh update), ms.
     const std::vector<double>& sampleMs() const { return mSampleMs; }
     const std::string& recoveryWarning() const { return mRecoveryWarning; }
+    /// Adds a line to recoveryWarning(): what opening the project had to drop or set aside
+    /// (the studio's sketch.json too), shown wherever the journal's recovery is.
+    void addRecoveryWarning(const std::string& line) {
+        mRecoveryWarning += (mRecoveryWarning.empty() ? "" : "\n") + line;
+    }
     /// The project folder, when the session has one.
     const std::optional<std::filesystem::path>& projectDir() const { return mProjectDir; }
     size_t recoveredEdits() const { return mRecovered; }

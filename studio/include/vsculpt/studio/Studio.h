@@ -47,8 +47,12 @@ class Studio {
     /// A studio without a project (nothing is written to disk).
     explicit Studio(const core::SculptConfig& cfg,
                     const SketchParams& params = recommendedSketchParams());
-    /// Takes over a session (with or without a project); loads the project's `sketch.json`
-    /// (throws std::invalid_argument naming the file and field).
+    /// Takes over a session (with or without a project); loads the project's `sketch.json`.
+    /// A sketch.json that cannot be read (named with the file and field) costs the sketch
+    /// pages, never the sculpture: the studio opens with empty pages, the file is set aside
+    /// as sketch.json.damaged (core::setAsideAsDamaged; left alone in a read-only session)
+    /// and the reason is added to session().recoveryWarning(). Throws std::invalid_argument
+    /// only when the file cannot be set aside.
     explicit Studio(std::unique_ptr<Session> session,
                     const SketchParams& params = recommendedSketchParams());
     /// Opens the project in `dir` (Session::openProject: created when the folder holds none,
@@ -194,6 +198,9 @@ class Studio {
     }
     void noteSculptSteps();
     void loadSketchFile();
+    /// After loadSketchFile failed with `why`: the studio as if there were no file.
+    void openWithoutSketchFile(const std::string& why, std::vector<Step> sculptDone,
+                               std::vector<Step> sculptUndone);
     void writeSketchFile() const;
     /// After a sculpt step, undo or redo: writes the file only where the journal alone would
     /// not give the timeline back on opening (reconciledTimeline).

@@ -588,7 +588,8 @@ fs::path keepBeforeCutting(int fd, const fs::path& path, off_t size) {
 
 }  // namespace
 
-JournalWriter::JournalWriter(const fs::path& path, uint64_t validBytes) : mPath(path) {
+JournalWriter::JournalWriter(const fs::path& path, uint64_t validBytes, SyncFn sync)
+    : mPath(path), mSync(sync ? std::move(sync) : SyncFn([](int fd) { return ::fdatasync(fd); })) {
     // Read too: reset(keepFrom) copies the records appended while a snapshot was written.
     mFd = ::open(path.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
     if (mFd < 0)
@@ -621,13 +622,60 @@ JournalWriter::JournalWriter(const fs::path& path, uint64_t validBytes) : mPath(
         mFd = -1;
         throw;
     }
+    mFlusher = std::thread([this] { flushLoop(); });
 }
 
 JournalWriter::~JournalWriter() {
+    {
+        const std::lock_guard lock(mMutex);
+        mStop = true;
+    }
+    mWake.notify_all();
+    mFlusher.join();  // after the last flush: the loop drains what was appended
     if (mFd >= 0) ::close(mFd);
 }
 
+void JournalWriter::flushLoop() {
+    std::unique_lock lock(mMutex);
+    for (;;) {
+        mWake.wait(lock, [&] { return mStop || mAppended != mDurable; });
+        if (mAppended == mDurable) return;  // stopping, nothing left to flush
+        const uint64_t upTo = mAppended;
+        // A duplicate, flushed without the lock: append() and reset() go on meanwhile (a
+        // reset's new file is written durably by reset() itself).
+        const int fd = mFd >= 0 ? ::dup(mFd) : -1;
+        int err = fd < 0 ? (mFd < 0 ? EBADF : errno) : 0;
+        lock.unlock();
+        if (fd >= 0) {
+            while (mSync(fd) != 0) {
+                if (errno == EINTR) continue;
+                err = errno;
+                break;
+            }
+            ::close(fd);
+        }
+        lock.lock();
+        if (err != 0 && mFlushError.empty()) mFlushError = errnoText(err);
+        mDurable = std::max(mDurable, upTo);  // or given up on: mFlushError says so
+        mFlushed.notify_all();
+    }
+}
+
+void JournalWriter::waitDurable() {
+    std::unique_lock lock(mMutex);
+    const uint64_t upTo = mAppended;
+    mFlushed.wait(lock, [&] { return mDurable >= upTo; });
+    if (!mFlushError.empty())
+        throw ProjectError(mPath.string() + ": cannot flush: " + mFlushError);
+}
+
 void JournalWriter::append(const JournalRecord& rec) {
+    const std::lock_guard lock(mMutex);
+    if (!mFlushError.empty())
+        throw ProjectError(mPath.string() + ": record with sequence " +
+                           std::to_string(rec.sequence) +
+                           " not written: an earlier record could not be flushed to disk (" +
+                           mFlushError + ")");
     if (mFd < 0)
         throw ProjectError(mPath.string() + ": the journal was closed by an earlier failure");
     const std::string what = mPath.string() + ": record with sequence " +
@@ -647,17 +695,18 @@ void JournalWriter::append(const JournalRecord& rec) {
     const off_t start = ::lseek(mFd, 0, SEEK_CUR);
     try {
         writeAllOrThrow(mFd, frame.bytes, mPath);
-        if (::fdatasync(mFd) != 0)
-            throw ProjectError(mPath.string() + ": cannot flush: " + errnoText(errno));
     } catch (...) {
         // A partial record would hide every later one from readJournal: cut it off.
         if (start >= 0 && ::ftruncate(mFd, start) == 0) ::lseek(mFd, start, SEEK_SET);
         throw;
     }
     mLastSequence = rec.sequence;
+    ++mAppended;
+    mWake.notify_one();
 }
 
 uint64_t JournalWriter::bytes() const {
+    const std::lock_guard lock(mMutex);
     if (mFd < 0) return 0;
     const off_t end = ::lseek(mFd, 0, SEEK_CUR);
     return end < 0 ? 0 : uint64_t(end);
@@ -668,12 +717,13 @@ void JournalWriter::reset() {
 }
 
 void JournalWriter::reset(uint64_t keepFrom) {
+    const uint64_t end = this->bytes();
+    const std::lock_guard lock(mMutex);
     std::string bytes = journalHeader();
     if (keepFrom != std::numeric_limits<uint64_t>::max()) {
         if (mFd < 0)
             throw ProjectError(mPath.string() +
                                ": the journal was closed by an earlier failure; not restarted");
-        const uint64_t end = this->bytes();
         if (keepFrom < kMagicBytes || keepFrom > end)
             throw std::logic_error("JournalWriter::reset: keeping from byte " +
                                    std::to_string(keepFrom) + " of a " + std::to_string(end) +
@@ -697,6 +747,11 @@ void JournalWriter::reset(uint64_t keepFrom) {
     } catch (const FileWriteError& e) {
         throw ProjectError(e.what());
     }
+    // Every record appended so far is on disk now: in the snapshot the caller wrote, or in
+    // the new file. A flush that failed before no longer matters.
+    mDurable = mAppended;
+    mFlushError.clear();
+    mFlushed.notify_all();
     const int fd = ::open(mPath.c_str(), O_RDWR | O_NOFOLLOW | O_CLOEXEC);
     const int err = errno;
     if (mFd >= 0) ::close(mFd);

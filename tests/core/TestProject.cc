@@ -25,6 +25,8 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <future>
+#include <atomic>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -1232,6 +1234,70 @@ TEST(Project, RedoSurvivesReopeningAfterStrokeAndUndo) {
         r.history.redo(*r.sculpture);
         EXPECT_EQ(entries(*r.sculpture), beforeUndo);
     }
+}
+
+
+// The journal's fdatasync takes milliseconds on a laptop's disk; a stroke's end on the frame
+// thread must not wait for it. append() writes the record (a crash of the process keeps it) and
+// returns while the flusher thread is still flushing: here the flush is held until every append
+// has returned, which would hang (ctest's timeout) if append() waited for it.
+TEST(Project, AppendReturnsWhileTheFlushIsStillGoingOn) {
+    TempDir dir;
+    std::promise<void> release;
+    std::shared_future<void> released = release.get_future().share();
+    std::atomic<int> flushes{0}, heldAt{-1};
+    JournalWriter j(journalPath(dir.path), 0, [&](int fd) {
+        if (heldAt.load() < 0) heldAt = flushes.load();
+        ++flushes;
+        released.wait();
+        return ::fdatasync(fd);
+    });
+    for (uint64_t seq = 1; seq <= 3; ++seq)
+        j.append(strokeRecord(seq, ToolOp::Add, 4, {0, 0, 0}, {9, double(seq), 0}));
+    // Written, though not yet flushed: another reader (the next session after a crash of this
+    // process) finds all three.
+    EXPECT_EQ(readJournal(journalPath(dir.path)).records.size(), 3u);
+    EXPECT_LE(flushes.load(), 1);  // the flusher is held in its first flush at most
+    release.set_value();
+    j.waitDurable();
+    EXPECT_GE(flushes.load(), 1);
+    EXPECT_EQ(readJournal(journalPath(dir.path)).records.size(), 3u);
+}
+
+// A flush that fails (EIO: the disk may not hold the records) is reported by waitDurable() and
+// by every later append, which writes nothing, until a save restarts the journal on disk.
+TEST(Project, AFailedFlushIsReportedAndStopsTheJournalUntilASave) {
+    TempDir dir;
+    std::atomic<bool> fail{true};
+    JournalWriter j(journalPath(dir.path), 0, [&](int fd) {
+        if (!fail.load()) return ::fdatasync(fd);
+        errno = EIO;
+        return -1;
+    });
+    j.append(strokeRecord(1, ToolOp::Add, 4, {0, 0, 0}, {9, 0, 0}));
+    try {
+        j.waitDurable();
+        ADD_FAILURE() << "a failed flush was not reported";
+    } catch (const ProjectError& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  journalPath(dir.path).string() + ": cannot flush: " + std::strerror(EIO));
+    }
+    try {
+        j.append(strokeRecord(2, ToolOp::Add, 4, {0, 0, 0}, {9, 0, 0}));
+        ADD_FAILURE() << "a record was appended after a failed flush";
+    } catch (const ProjectError& e) {
+        EXPECT_NE(std::string(e.what()).find("record with sequence 2 not written: an earlier "
+                                             "record could not be flushed to disk"),
+                  std::string::npos)
+            << e.what();
+    }
+    EXPECT_EQ(readJournal(journalPath(dir.path)).records.size(), 1u);
+    // A save wrote the snapshot durably and restarts the journal the same way: it goes on.
+    fail = false;
+    j.reset();
+    j.append(strokeRecord(2, ToolOp::Add, 4, {0, 0, 0}, {9, 0, 0}));
+    j.waitDurable();
+    EXPECT_EQ(readJournal(journalPath(dir.path)).records.size(), 1u);
 }
 
 }  // namespace

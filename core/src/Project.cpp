@@ -665,17 +665,15 @@ void JournalWriter::waitDurable() {
     std::unique_lock lock(mMutex);
     const uint64_t upTo = mAppended;
     mFlushed.wait(lock, [&] { return mDurable >= upTo; });
-    if (!mFlushError.empty())
-        throw ProjectError(mPath.string() + ": cannot flush: " + mFlushError);
+    if (!mFlushError.empty()) throw ProjectError(mPath.string() + ": cannot flush: " + mFlushError);
 }
 
 void JournalWriter::append(const JournalRecord& rec) {
     const std::lock_guard lock(mMutex);
     if (!mFlushError.empty())
-        throw ProjectError(mPath.string() + ": record with sequence " +
-                           std::to_string(rec.sequence) +
-                           " not written: an earlier record could not be flushed to disk (" +
-                           mFlushError + ")");
+        throw ProjectError(
+            mPath.string() + ": record with sequence " + std::to_string(rec.sequence) +
+            " not written: an earlier record could not be flushed to disk (" + mFlushError + ")");
     if (mFd < 0)
         throw ProjectError(mPath.string() + ": the journal was closed by an earlier failure");
     const std::string what = mPath.string() + ": record with sequence " +

@@ -964,6 +964,47 @@ void BM_SaveRequest(benchmark::State& state) {
     state.counters["history_copy_ms"] = quantile(historyMs, 0.5);
     state.counters["skeletons"] = double(model.sculpture->counts().total());
 }
+/// What the end of a stroke costs the frame thread in the journal: JournalWriter::append of a
+/// size-7 stroke's record (90 samples, a second of stroke at 90 Hz), 40 strokes per iteration.
+/// `disk_us` adds that many microseconds to every flush (a laptop's disk: this machine's
+/// fdatasync takes about 15 us); `wait:1` also waits for the flush after each append, which is
+/// what append() cost before the flusher thread took the flush off the caller (stop 32).
+void BM_JournalAppend(benchmark::State& state) {
+    const auto diskDelay = std::chrono::microseconds(state.range(0));
+    const bool wait = state.range(1) != 0;
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("vsculpt-bench-journal-" + std::to_string(::getpid()));
+    std::vector<double> appendMs;
+    for (auto _ : state) {
+        std::filesystem::remove_all(dir);
+        std::filesystem::create_directories(dir);
+        JournalWriter journal(journalPath(dir), 0, [diskDelay](int fd) {
+            std::this_thread::sleep_for(diskDelay);
+            return ::fdatasync(fd);
+        });
+        JournalRecord r;
+        r.level = 7;
+        for (int i = 0; i < 90; ++i)
+            r.samples.push_back(Vec3(0.5 * i, 10 * std::sin(0.1 * i), 40));
+        for (uint64_t seq = 1; seq <= 40; ++seq) {
+            r.sequence = seq;
+            const auto t0 = Clock::now();
+            journal.append(r);
+            if (wait) journal.waitDurable();
+            appendMs.push_back(msSince(t0, Clock::now()));
+        }
+    }
+    std::filesystem::remove_all(dir);
+    state.counters["append_p50_ms"] = quantile(appendMs, 0.5);
+    state.counters["append_p99_ms"] = quantile(appendMs, 0.99);
+    state.counters["append_max_ms"] = *std::max_element(appendMs.begin(), appendMs.end());
+}
+BENCHMARK(BM_JournalAppend)
+    ->ArgNames({"disk_us", "wait"})
+    ->ArgsProduct({{0, 2000, 8000}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+
 BENCHMARK(BM_SaveRequest)
     ->ArgName("skeletons")
     ->Arg(10000)

@@ -21,12 +21,12 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <functional>
 #include <future>
-#include <atomic>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -1235,7 +1235,6 @@ TEST(Project, RedoSurvivesReopeningAfterStrokeAndUndo) {
         EXPECT_EQ(entries(*r.sculpture), beforeUndo);
     }
 }
-
 
 // The journal's fdatasync takes milliseconds on a laptop's disk; a stroke's end on the frame
 // thread must not wait for it. append() writes the record (a crash of the process keeps it) and

@@ -3,6 +3,8 @@
 
 #include "vsculpt/studio/SketchSolids.h"
 
+#include "vsculpt/studio/SketchFileWriter.h"
+
 #include "vsculpt/core/JsonNesting.h"
 #include "vsculpt/core/Project.h"
 #include "vsculpt/core/WriteFileAtomically.h"
@@ -68,6 +70,7 @@ Studio::Studio(std::unique_ptr<Session> session, const studio::SketchParams& par
     mPlanes.assign(mDocument.pageCount(), SketchPlane::Front);
     if (!mSession->projectDir()) return;
     mFile = *mSession->projectDir() / "sketch.json";
+    if (!mSession->readOnly()) mSketchWriter = std::make_unique<SketchFileWriter>(*mFile);
     std::error_code ec;
     if (!std::filesystem::exists(std::filesystem::symlink_status(*mFile, ec))) return;
     const std::vector<Step> sculptDone = mDone, sculptUndone = mUndone;
@@ -105,6 +108,8 @@ void Studio::openWithoutSketchFile(const std::string& why, std::vector<Step> scu
     mSession->addRecoveryWarning(why + "; the project opens with empty sketch pages (" + kept +
                                  ")");
 }
+
+Studio::~Studio() = default;
 
 std::unique_ptr<Studio> Studio::openProject(const std::filesystem::path& dir,
                                             const core::SculptConfig& cfg, ProjectMode mode,
@@ -386,6 +391,7 @@ void Studio::save() {
     endStroke();
     mSession->save();
     writeSketchFile();
+    waitForSketchFile();  // a save says whether everything is on disk
 }
 
 bool Studio::saveInBackground() {
@@ -706,24 +712,31 @@ void Studio::applySketch(const ScriptCommand& c) {
     }
 }
 
-void Studio::writeSketchFile() const {
-    if (!mFile || mSession->readOnly()) return;
+namespace {
+
+/// What sketch.json holds, copied for the writer's thread.
+struct SketchFileState {
+    SketchDocument document;
+    std::vector<std::string> planes;
+    std::vector<Studio::Step> done, undone;
+    std::vector<std::vector<core::Vec3>> surfaceLines, undoneSurfaceLines;
+};
+
+std::string sketchFileText(const SketchFileState& s) {
     nlohmann::json j;
     j["format"] = "vsculpt-studio";
     j["version"] = 1;
-    nlohmann::json planes = nlohmann::json::array();
-    for (size_t i = 0; i < mDocument.pageCount(); ++i)
-        planes.push_back(planeName(plane(i)));
-    j["planes"] = planes;
-    auto steps = [](const std::vector<Step>& v) {
+    j["planes"] = s.planes;
+    auto steps = [](const std::vector<Studio::Step>& v) {
         nlohmann::json a = nlohmann::json::array();
-        for (const Step& s : v)
-            a.push_back(
-                {{"sketch", s.sketch}, {"page", s.page}, {"surface_lines", s.surfaceLines}});
+        for (const Studio::Step& step : v)
+            a.push_back({{"sketch", step.sketch},
+                         {"page", step.page},
+                         {"surface_lines", step.surfaceLines}});
         return a;
     };
-    j["timeline"] = steps(mDone);
-    j["redo"] = steps(mUndone);
+    j["timeline"] = steps(s.done);
+    j["redo"] = steps(s.undone);
     auto lines = [](const std::vector<std::vector<core::Vec3>>& v) {
         nlohmann::json a = nlohmann::json::array();
         for (const auto& line : v) {
@@ -734,12 +747,37 @@ void Studio::writeSketchFile() const {
         }
         return a;
     };
-    j["surface_lines"] = lines(mSurfaceLines);
-    j["redo_surface_lines"] = lines(mUndoneSurfaceLines);
-    j["document"] = nlohmann::json::parse(mDocument.toJson());
-    core::writeFileAtomically(*mFile, j.dump(1) + "\n", true);
+    j["surface_lines"] = lines(s.surfaceLines);
+    j["redo_surface_lines"] = lines(s.undoneSurfaceLines);
+    // The document's own text goes in as it is (one line): parsing it back into this object
+    // only to print it again took most of the file's time.
+    std::string text = j.dump(1);
+    const size_t close = text.rfind('}');
+    text.replace(close, 1, ",\n \"document\": " + s.document.toJson() + "\n}\n");
+    return text;
+}
+
+}  // namespace
+
+void Studio::writeSketchFile() const {
+    if (!mFile || mSession->readOnly()) return;
+    if (const std::string failed = mSketchWriter->takeError(); !failed.empty() && mNotice)
+        mNotice("the sketch was not saved: " + failed);
+    std::vector<std::string> planes;
+    for (size_t i = 0; i < mDocument.pageCount(); ++i)
+        planes.emplace_back(planeName(plane(i)));
+    auto state = std::make_shared<const SketchFileState>(SketchFileState{
+        mDocument, std::move(planes), mDone, mUndone, mSurfaceLines, mUndoneSurfaceLines});
+    mSketchWriter->post([state] { return sketchFileText(*state); });
     mWrittenDone = mDone;
     mWrittenUndone = mUndone;
+}
+
+void Studio::waitForSketchFile() const {
+    if (!mSketchWriter) return;
+    mSketchWriter->wait();
+    if (const std::string failed = mSketchWriter->takeError(); !failed.empty())
+        throw core::FileWriteError(failed, EIO);
 }
 
 }  // namespace vsculpt::studio

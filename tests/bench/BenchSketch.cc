@@ -5,12 +5,21 @@
 #include "vsculpt/core/Sculpture.h"
 #include "vsculpt/core/Zoom.h"
 #include "vsculpt/sketch/SketchSolid.h"
+#include "vsculpt/studio/Script.h"
+#include "vsculpt/studio/Studio.h"
 
 #include "../TestSolids.h"
 
 #include <benchmark/benchmark.h>
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
 
 namespace vsculpt::core {
 namespace {
@@ -78,6 +87,68 @@ void BM_SketchToClay(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_SketchToClay)->Arg(15)->Arg(30)->Unit(benchmark::kMillisecond);
+
+/// What a pen stroke costs the sketch window's frame in a project: Studio::apply of one `pen`
+/// command of 120 samples on a page that already holds range(0) strokes of 120 samples, 20
+/// strokes timed per iteration. `wait:1` also waits for sketch.json after each step, as the
+/// step did before the file went to its writer thread (stop 32; the step then also printed
+/// the document twice, so before it cost more than this).
+void BM_SketchStepInAProject(benchmark::State& state) {
+    const size_t before = size_t(state.range(0));
+    const bool wait = state.range(1) != 0;
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("vsculpt-bench-sketch-" + std::to_string(::getpid()));
+    auto penLine = [](size_t k) {
+        std::string line = "pen";
+        for (int i = 0; i < 120; ++i) {
+            const double a = 0.06 * i;
+            line += " " + std::to_string(double(k % 40) * 3 + 20 * std::cos(a) + 0.1 * i) + "," +
+                    std::to_string(double(k % 23) * 4 + 15 * std::sin(a));
+        }
+        return line + "\n";
+    };
+    std::vector<double> stepMs;
+    for (auto _ : state) {
+        state.PauseTiming();
+        std::filesystem::remove_all(dir);
+        auto studio = studio::Studio::openProject(dir, SculptConfig{});
+        std::string setup = "page body Figure\nmode draft\n";
+        for (size_t k = 0; k < before; ++k)
+            setup += penLine(k);
+        for (const studio::ScriptCommand& c : studio::parseScript(setup, "setup.vsc").commands)
+            studio->apply(c);
+        studio->waitForSketchFile();
+        const auto steps = studio::parseScript(
+            [&] {
+                std::string t;
+                for (size_t k = 0; k < 20; ++k)
+                    t += penLine(before + k);
+                return t;
+            }(),
+            "steps.vsc");
+        state.ResumeTiming();
+        for (const studio::ScriptCommand& c : steps.commands) {
+            const auto t0 = std::chrono::steady_clock::now();
+            studio->apply(c);
+            if (wait) studio->waitForSketchFile();
+            stepMs.push_back(
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                    .count());
+        }
+        state.PauseTiming();
+        studio.reset();
+        state.ResumeTiming();
+    }
+    std::filesystem::remove_all(dir);
+    std::sort(stepMs.begin(), stepMs.end());
+    state.counters["step_p50_ms"] = stepMs[stepMs.size() / 2];
+    state.counters["step_max_ms"] = stepMs.back();
+}
+BENCHMARK(BM_SketchStepInAProject)
+    ->ArgNames({"strokes", "wait"})
+    ->ArgsProduct({{100, 600}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(2);
 
 }  // namespace
 }  // namespace vsculpt::core

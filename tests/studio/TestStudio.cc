@@ -546,6 +546,9 @@ TEST(Studio, ReopeningGivesTheTimelineBackWhateverTheStepsSinceTheSketchFile) {
             }
             for (int k = 0, n = 1 + int(rng() % 3); k < n; ++k) {
                 // The file's time set back: a write replaces the file with one of the time now.
+                // (The file is written on the studio's writer thread: what earlier steps posted
+                // is waited for first, and what this one posted before the check.)
+                studio->waitForSketchFile();
                 const auto file = dir.path / "sketch.json";
                 const auto longAgo = std::filesystem::file_time_type{};
                 if (std::filesystem::exists(file)) std::filesystem::last_write_time(file, longAgo);
@@ -581,6 +584,7 @@ TEST(Studio, ReopeningGivesTheTimelineBackWhateverTheStepsSinceTheSketchFile) {
                 const bool sketchAfter =
                     std::any_of(studio->redoTimeline().begin(), studio->redoTimeline().end(),
                                 [](const Step& s) { return !s.sculpt(); });
+                studio->waitForSketchFile();
                 const bool written = std::filesystem::exists(file) &&
                                      std::filesystem::last_write_time(file) != longAgo;
                 // A stroke made with nothing to redo (the common case: sculpting on) leaves the

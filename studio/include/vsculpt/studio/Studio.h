@@ -27,6 +27,8 @@
 
 namespace vsculpt::studio {
 
+class SketchFileWriter;
+
 /// Which view a page is drawn on: how its canvas millimetres map into object space (z up;
 /// SketchSolid.h). Front: canvas (x, y) -> object (x, z); side: (y, z); top: (x, y).
 using SketchPlane = sketch::SketchPlane;
@@ -55,6 +57,10 @@ class Studio {
     /// only when the file cannot be set aside.
     explicit Studio(std::unique_ptr<Session> session,
                     const SketchParams& params = recommendedSketchParams());
+    /// Writes the sketch file's last state (waitForSketchFile) before it goes.
+    ~Studio();
+    Studio(const Studio&) = delete;
+    Studio& operator=(const Studio&) = delete;
     /// Opens the project in `dir` (Session::openProject: created when the folder holds none,
     /// locked while the studio lives, read-only with `mode`).
     static std::unique_ptr<Studio> openProject(
@@ -136,10 +142,11 @@ class Studio {
     bool redo();
     size_t stepCount() const { return mDone.size(); }
     size_t redoCount() const { return mUndone.size(); }
-    /// Writes a snapshot of the sculpture and `sketch.json` (projects only).
+    /// Writes a snapshot of the sculpture and `sketch.json` (projects only), and waits for
+    /// both: throws when either could not be written.
     void save();
-    /// The same without waiting for the snapshot (Session::saveInBackground; `sketch.json`,
-    /// small, is written at once). Returns false without a project; pollSave() finishes it.
+    /// The same without waiting for the snapshot (Session::saveInBackground) or sketch.json
+    /// (its writer thread). Returns false without a project; pollSave() finishes it.
     bool saveInBackground();
     std::optional<std::string> pollSave(bool wait = false, bool* failed = nullptr) {
         return mSession->pollSave(wait, failed);
@@ -171,6 +178,11 @@ class Studio {
         bool operator==(const Step&) const = default;
     };
     /// The steps done, oldest first, and those that can be redone, the next one last.
+    /// sketch.json is written on a thread of its own after each sketch step (the latest state
+    /// first; a sketch step never waits for it). Returns once what the steps so far left is
+    /// in the file; throws core::FileWriteError when the last write failed (also logged, and
+    /// told to the notice sink at the next step).
+    void waitForSketchFile() const;
     const std::vector<Step>& timeline() const { return mDone; }
     const std::vector<Step>& redoTimeline() const { return mUndone; }
 
@@ -235,6 +247,8 @@ class Studio {
     std::optional<std::filesystem::path> mFile;
     SurfaceProjector mProjector;
     std::function<void(const std::string&)> mNotice;
+    // Last: destroyed first, writing what is pending while the rest still stands.
+    std::unique_ptr<SketchFileWriter> mSketchWriter;
 };
 
 }  // namespace vsculpt::studio

@@ -640,9 +640,8 @@ void JournalWriter::flushLoop() {
     for (;;) {
         mWake.wait(lock, [&] { return mStop || mAppended != mDurable; });
         if (mAppended == mDurable) return;  // stopping, nothing left to flush
-        const uint64_t upTo = mAppended;
-        // A duplicate, flushed without the lock: append() and reset() go on meanwhile (a
-        // reset's new file is written durably by reset() itself).
+        const uint64_t upTo = mAppended, generation = mGeneration;
+        // A duplicate, flushed without the lock: append() and reset() go on meanwhile.
         const int fd = mFd >= 0 ? ::dup(mFd) : -1;
         int err = fd < 0 ? (mFd < 0 ? EBADF : errno) : 0;
         lock.unlock();
@@ -655,6 +654,7 @@ void JournalWriter::flushLoop() {
             ::close(fd);
         }
         lock.lock();
+        if (generation != mGeneration) continue;  // a reset replaced the file meanwhile
         if (err != 0 && mFlushError.empty()) mFlushError = errnoText(err);
         mDurable = std::max(mDurable, upTo);  // or given up on: mFlushError says so
         mFlushed.notify_all();
@@ -715,54 +715,92 @@ void JournalWriter::reset() {
 }
 
 void JournalWriter::reset(uint64_t keepFrom) {
-    const uint64_t end = this->bytes();
-    const std::lock_guard lock(mMutex);
-    std::string bytes = journalHeader();
-    if (keepFrom != std::numeric_limits<uint64_t>::max()) {
-        if (mFd < 0)
-            throw ProjectError(mPath.string() +
-                               ": the journal was closed by an earlier failure; not restarted");
-        if (keepFrom < kMagicBytes || keepFrom > end)
-            throw std::logic_error("JournalWriter::reset: keeping from byte " +
-                                   std::to_string(keepFrom) + " of a " + std::to_string(end) +
-                                   "-byte journal");
-        // Whole records: keepFrom was bytes() between two appends.
-        const size_t header = bytes.size();
-        bytes.resize(header + size_t(end - keepFrom));
-        size_t done = 0;
-        while (done < end - keepFrom) {
-            const ssize_t n = ::pread(mFd, bytes.data() + header + done, end - keepFrom - done,
-                                      off_t(keepFrom + done));
+    const bool keep = keepFrom != std::numeric_limits<uint64_t>::max();
+    auto readRange = [&](int fd, uint64_t from, uint64_t to, std::string& into) {
+        const size_t at = into.size();
+        into.resize(at + size_t(to - from));
+        for (size_t done = 0; done < to - from;) {
+            const ssize_t n =
+                ::pread(fd, into.data() + at + done, to - from - done, off_t(from + done));
             if (n < 0 && errno == EINTR) continue;
             if (n <= 0)
                 throw ProjectError(mPath.string() + ": cannot read back its last records: " +
                                    (n < 0 ? errnoText(errno) : std::string("file shrank")));
             done += size_t(n);
         }
+    };
+    // 1 (locked): the records kept so far. Whole records: keepFrom was bytes() between two
+    // appends, and so is `end`.
+    std::string data = journalHeader();
+    uint64_t end = 0, appendedAtEnd = 0;
+    {
+        const std::lock_guard lock(mMutex);
+        if (keep && mFd < 0)
+            throw ProjectError(mPath.string() +
+                               ": the journal was closed by an earlier failure; not restarted");
+        if (mFd >= 0) {
+            const off_t at = ::lseek(mFd, 0, SEEK_CUR);
+            if (at < 0) throw ProjectError(mPath.string() + ": cannot seek: " + errnoText(errno));
+            end = uint64_t(at);
+        }
+        if (keep) {
+            if (keepFrom < kMagicBytes || keepFrom > end)
+                throw std::logic_error("JournalWriter::reset: keeping from byte " +
+                                       std::to_string(keepFrom) + " of a " + std::to_string(end) +
+                                       "-byte journal");
+            readRange(mFd, keepFrom, end, data);
+        }
+        appendedAtEnd = mAppended;
     }
+    // 2 (unlocked): the new journal, flushed, under a name of its own. Two flushes take
+    // milliseconds on a laptop's disk: appends go on meanwhile, into the old file.
+    const fs::path next = mPath.string() + ".restart";
     try {
-        writeFileAtomically(mPath, bytes, true);
+        writeFileAtomically(next, data, false);
     } catch (const FileWriteError& e) {
         throw ProjectError(e.what());
     }
-    // Every record appended so far is on disk now: in the snapshot the caller wrote, or in
-    // the new file. A flush that failed before no longer matters.
-    mDurable = mAppended;
-    mFlushError.clear();
-    mFlushed.notify_all();
-    const int fd = ::open(mPath.c_str(), O_RDWR | O_NOFOLLOW | O_CLOEXEC);
-    const int err = errno;
-    if (mFd >= 0) ::close(mFd);
-    // Never left on the old file: it may now be journal.vjl.bak.
-    mFd = fd;
-    if (mFd < 0)
-        throw ProjectError(mPath.string() + ": cannot open the new journal: " + errnoText(err));
-    if (::lseek(mFd, 0, SEEK_END) < 0) {
-        const int e = errno;
-        ::close(mFd);
-        mFd = -1;
-        throw ProjectError(mPath.string() + ": cannot seek: " + errnoText(e));
+    const int fd = ::open(next.c_str(), O_RDWR | O_NOFOLLOW | O_CLOEXEC);
+    if (fd < 0) throw ProjectError(next.string() + ": cannot open: " + errnoText(errno));
+    auto fail = [&](const std::string& why) {
+        ::close(fd);
+        ::unlink(next.c_str());
+        throw ProjectError(why);
+    };
+    while (mSync(fd) != 0)
+        if (errno != EINTR) fail(next.string() + ": cannot flush: " + errnoText(errno));
+    // 3 (locked): what was appended meanwhile follows, then the new file takes the name. The
+    // old file is never written again: it may now be journal.vjl.bak.
+    {
+        const std::lock_guard lock(mMutex);
+        std::string since;
+        if (mFd >= 0) {
+            const off_t now = ::lseek(mFd, 0, SEEK_CUR);
+            if (now < 0) fail(mPath.string() + ": cannot seek: " + errnoText(errno));
+            readRange(mFd, end, uint64_t(now), since);
+        }
+        if (::lseek(fd, 0, SEEK_END) < 0)
+            fail(next.string() + ": cannot seek: " + errnoText(errno));
+        try {
+            writeAllOrThrow(fd, since, next);
+        } catch (const ProjectError& e) {
+            fail(e.what());
+        }
+        if (::rename(next.c_str(), mPath.c_str()) != 0)
+            fail(mPath.string() + ": cannot replace it with the new journal: " + errnoText(errno));
+        if (mFd >= 0) ::close(mFd);
+        mFd = fd;
+        ++mGeneration;
+        // Every record appended before step 1 is on disk: in the snapshot the caller wrote,
+        // or in the new file. Those copied in step 3 are the flusher's (a flush that failed
+        // before no longer matters).
+        mDurable = appendedAtEnd;
+        mFlushError.clear();
+        if (mAppended != mDurable) mWake.notify_one();
+        mFlushed.notify_all();
     }
+    // 4: the new name itself made durable.
+    syncFolder(folderOf(mPath));
 }
 
 // ------------------------------------------------------------------------------ snapshot

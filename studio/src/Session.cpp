@@ -35,6 +35,7 @@ struct Session::BackgroundSave {
     uint64_t sequence = 0;      // the last edit the snapshot holds
     uint64_t journalBytes = 0;  // the journal's length then: later records start here
     std::string error;          // why writing failed (empty: written)
+    std::string journalError;   // why the journal did not restart after it (empty: it did)
     std::atomic<bool> done{false};
     std::thread thread;
 };
@@ -557,12 +558,23 @@ bool Session::saveInBackground() {
     // history, whose records are shared: docs/benchmarks.md); the live ones go on changing.
     j->thread = std::thread([j, dir = *mProjectDir, configJson = projectConfigJson(mConfig),
                              sculpture = std::unique_ptr<const Sculpture>(mSculpture->clone()),
-                             history = mHistory] {
+                             history = mHistory, journal = mJournal.get()] {
         try {
             lowerThisThreadsPriority(kBackgroundSaveNice);
             writeProjectSnapshot(dir, configJson, j->sequence, *sculpture, history);
         } catch (const std::exception& e) {
             j->error = e.what();
+        }
+        if (j->error.empty()) {
+            // The journal restarts here too, not on the frame that polls: the new file (the
+            // records appended since the snapshot began) is written durably, two flushes that
+            // take milliseconds on a laptop's disk. The writer's lock keeps appends in order;
+            // one that comes meanwhile waits for it.
+            try {
+                journal->reset(j->journalBytes);
+            } catch (const ProjectError& e) {
+                j->journalError = e.what();
+            }
         }
         j->done.store(true, std::memory_order_release);
     });
@@ -591,13 +603,10 @@ std::string Session::finishSave(bool& failed) {
     failed = true;
     if (!job->error.empty())
         return "saving " + dir + " failed: " + job->error + "; the journal keeps every edit";
-    try {
-        mJournal->reset(job->journalBytes);
-    } catch (const ProjectError& e) {
+    if (!job->journalError.empty())
         // The snapshot is in place and the old journal holds every edit: nothing is lost,
         // but edits may not be journaled from now on (append() throws and says so).
-        return "saved " + dir + ", but the journal did not restart: " + e.what();
-    }
+        return "saved " + dir + ", but the journal did not restart: " + job->journalError;
     mSnapshotSequence = job->sequence;
     failed = false;
     return "saved " + dir;

@@ -1299,5 +1299,50 @@ TEST(Project, AFailedFlushIsReportedAndStopsTheJournalUntilASave) {
     EXPECT_EQ(readJournal(journalPath(dir.path)).records.size(), 1u);
 }
 
+// A background save restarts the journal on its own thread (Session::saveInBackground) while
+// the frame goes on appending. reset() writes and flushes the new file without the writer's
+// lock: here its flush is held until two appends from this thread have returned (they would
+// hang, ctest's timeout, if reset() held the lock through it). The new journal then holds the
+// kept records and those two, in order, and the old file (linked as the backup) has them all.
+TEST(Project, AppendsGoOnWhileAResetFlushesTheNewJournal) {
+    TempDir dir;
+    std::promise<void> resetFlushing, release;
+    std::shared_future<void> released = release.get_future().share();
+    std::atomic<bool> holding{false};
+    JournalWriter j(journalPath(dir.path), 0, [&](int fd) {
+        char link[64], target[4096] = {};
+        std::snprintf(link, sizeof link, "/proc/self/fd/%d", fd);
+        const ssize_t n = ::readlink(link, target, sizeof target - 1);
+        const std::string name = n > 0 ? std::string(target, size_t(n)) : std::string();
+        if (name.ends_with(".restart") && !holding.exchange(true)) {
+            resetFlushing.set_value();
+            released.wait();
+        }
+        return ::fdatasync(fd);
+    });
+    for (uint64_t seq = 1; seq <= 3; ++seq)
+        j.append(strokeRecord(seq, ToolOp::Add, 4, {0, 0, 0}, {9, double(seq), 0}));
+    const uint64_t keepFrom = j.bytes();  // records 1-3 are in the snapshot
+    replaceWithHardLink(journalPath(dir.path), journalBackupPath(dir.path), true);
+    j.append(strokeRecord(4, ToolOp::Add, 4, {0, 0, 0}, {9, 4, 0}));
+    std::thread save([&] { j.reset(keepFrom); });
+    resetFlushing.get_future().wait();
+    j.append(strokeRecord(5, ToolOp::Add, 4, {0, 0, 0}, {9, 5, 0}));
+    j.append(strokeRecord(6, ToolOp::Add, 4, {0, 0, 0}, {9, 6, 0}));
+    release.set_value();
+    save.join();
+    j.append(strokeRecord(7, ToolOp::Add, 4, {0, 0, 0}, {9, 7, 0}));
+    j.waitDurable();
+    auto sequences = [](const fs::path& p) {
+        std::vector<uint64_t> out;
+        for (const JournalRecord& r : readJournal(p).records)
+            out.push_back(r.sequence);
+        return out;
+    };
+    EXPECT_EQ(sequences(journalPath(dir.path)), (std::vector<uint64_t>{4, 5, 6, 7}));
+    EXPECT_EQ(sequences(journalBackupPath(dir.path)), (std::vector<uint64_t>{1, 2, 3, 4, 5, 6}));
+    EXPECT_FALSE(fs::exists(journalPath(dir.path).string() + ".restart"));
+}
+
 }  // namespace
 }  // namespace vsculpt::core

@@ -126,8 +126,11 @@ class JournalWriter {
     void waitDurable();
     /// Starts a new, empty journal at the same path, durably, and appends there from now on.
     /// The file is replaced (a new file renamed into place), not truncated, so another name
-    /// for the old one (saveProject's journal.vjl.bak) keeps its records. After a failure the
-    /// writer may be closed: append() then throws.
+    /// for the old one (saveProject's journal.vjl.bak) keeps its records. Records appended
+    /// while it runs (from another thread: a background save restarts the journal on its own
+    /// thread) follow in the new file: append() never waits for reset()'s flushes, which run
+    /// without the lock (the new file is written as `path`.restart, flushed, then renamed).
+    /// After a failure the old file goes on: append() writes there as before.
     void reset();
     /// The same, but the new journal starts with this one's records from byte `keepFrom` on
     /// (a bytes() taken between appends): the edits appended while a snapshot of the earlier
@@ -153,6 +156,7 @@ class JournalWriter {
     uint64_t mAppended = 0, mDurable = 0;  ///< records appended, and of those made durable
     std::string mFlushError;               ///< why a flush failed; then every append throws
     bool mStop = false;
+    uint64_t mGeneration = 0;  ///< files reset() put in place: a flush of an older one is moot
     std::thread mFlusher;
 };
 

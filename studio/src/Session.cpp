@@ -567,12 +567,11 @@ bool Session::saveInBackground() {
         }
         if (j->error.empty()) {
             // The journal restarts here too, not on the frame that polls: the new file (the
-            // records appended since the snapshot began) is written durably, two flushes that
-            // take milliseconds on a laptop's disk. The writer's lock keeps appends in order;
-            // one that comes meanwhile waits for it.
+            // records appended since the snapshot began) is written durably, flushes that take
+            // milliseconds on a laptop's disk; appends go on meanwhile (JournalWriter::reset).
             try {
                 journal->reset(j->journalBytes);
-            } catch (const ProjectError& e) {
+            } catch (const std::exception& e) {
                 j->journalError = e.what();
             }
         }
@@ -604,8 +603,8 @@ std::string Session::finishSave(bool& failed) {
     if (!job->error.empty())
         return "saving " + dir + " failed: " + job->error + "; the journal keeps every edit";
     if (!job->journalError.empty())
-        // The snapshot is in place and the old journal holds every edit: nothing is lost,
-        // but edits may not be journaled from now on (append() throws and says so).
+        // The snapshot is in place and the old journal holds every edit, and goes on taking
+        // them: nothing is lost, the next save restarts it.
         return "saved " + dir + ", but the journal did not restart: " + job->journalError;
     mSnapshotSequence = job->sequence;
     failed = false;

@@ -271,6 +271,16 @@ std::string openedPastADamagedSketchFile(const std::filesystem::path& dir, uint6
     return warning;
 }
 
+/// Writes `damaged` as the project's sketch.json and opens past it: the warning must begin
+/// with the file and `expected`.
+void expectSetAsideFor(const std::filesystem::path& dir, uint64_t mesh, const std::string& damaged,
+                       const std::string& expected) {
+    const auto file = dir / "sketch.json";
+    writeFile(file, damaged);
+    const std::string what = openedPastADamagedSketchFile(dir, mesh);
+    EXPECT_EQ(what.rfind(file.string() + ": " + expected + "; ", 0), 0u) << what;
+}
+
 }  // namespace
 
 // Found by fuzzing: a sketch.json holding 200 000 nested arrays in its document overflowed the
@@ -311,13 +321,8 @@ TEST(Studio, ATimelineUndoCannotWalkIsSetAsideOnOpening) {
         {R"({"sketch":true,"page":0},)",
          "timeline: 1 sketch step(s) on page 0, whose log holds 0 action(s) to undo"},
     };
-    for (const auto& c : cases) {
-        std::string text = good;
-        text.insert(open, c.steps);
-        writeFile(file, text);
-        const std::string what = openedPastADamagedSketchFile(dir.path, mesh);
-        EXPECT_EQ(what.rfind(file.string() + ": " + c.expected + "; ", 0), 0u) << what;
-    }
+    for (const auto& c : cases)
+        expectSetAsideFor(dir.path, mesh, std::string(good).insert(open, c.steps), c.expected);
 }
 
 // Found by fuzzing: values of the wrong type in sketch.json gave nlohmann's bare words
@@ -347,9 +352,7 @@ TEST(Studio, ASketchFileValueOfTheWrongTypeIsNamedByItsKey) {
     for (const auto& c : cases) {
         nlohmann::json j = good;
         c.damage(j);
-        writeFile(file, j.dump(1));
-        const std::string what = openedPastADamagedSketchFile(dir.path, mesh);
-        EXPECT_EQ(what.rfind(file.string() + ": " + c.expected + "; ", 0), 0u) << what;
+        expectSetAsideFor(dir.path, mesh, j.dump(1), c.expected);
     }
 }
 

@@ -401,6 +401,21 @@ bool Studio::saveInBackground() {
     return true;
 }
 
+std::optional<std::string> Studio::pollSave(bool wait, bool* failed) {
+    bool bad = false;
+    std::optional<std::string> outcome = mSession->pollSave(wait, &bad);
+    if (outcome && mSketchWriter) {
+        // The sketch file posted with the save (saveInBackground) is part of it.
+        if (wait) mSketchWriter->wait();
+        if (const std::string error = mSketchWriter->takeError(); !error.empty()) {
+            *outcome += "; the sketch was not saved: " + error;
+            bad = true;
+        }
+    }
+    if (failed) *failed = bad;
+    return outcome;
+}
+
 void Studio::noteSketchStep() {
     push(Step{true, mDocument.currentIndex()});
     writeSketchFile();

@@ -4,6 +4,7 @@
 #include "vsculpt/studio/Studio.h"
 
 #include "vsculpt/core/EvalField.h"
+#include "vsculpt/core/WriteFileAtomically.h"
 
 #include "../TestFiles.h"
 #include "../TestFixtures.h"
@@ -400,6 +401,39 @@ TEST(Studio, ADamagedSketchFileCostsTheSketchPagesNeverTheSculpture) {
         EXPECT_EQ(readFile(dir.path / "sketch.json.damaged"), damaged);
         EXPECT_EQ(readFile(dir.path / "sketch.json.damaged-2"), "not json either");
     }
+}
+
+// sketch.json is written on the studio's writer thread, so a write that fails is not the
+// step's error: waitForSketchFile() throws it, a background save's outcome includes it (and
+// counts as failed), and save() throws it. (The notice sink tells it at the next step when
+// nothing asked before.)
+TEST(Studio, ASketchFileThatCannotBeWrittenIsReportedByTheSave) {
+    TempDir dir;
+    auto studioPtr = Studio::openProject(dir.path, smallConfig());
+    Studio& studio = *studioPtr;
+    const auto file = dir.path / "sketch.json";
+    std::filesystem::remove(file);
+    std::filesystem::create_directory(file);  // nothing can replace a folder
+    run(studio, linePen(0, 30, 20, 30));
+    try {
+        studio.waitForSketchFile();
+        ADD_FAILURE() << "the failed write was not reported";
+    } catch (const core::FileWriteError& e) {
+        EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << e.what();
+    }
+    EXPECT_NO_THROW(studio.waitForSketchFile());  // told once
+    run(studio, linePen(0, 40, 20, 40));
+    ASSERT_TRUE(studio.saveInBackground());
+    bool failed = false;
+    const std::optional<std::string> outcome = studio.pollSave(true, &failed);
+    ASSERT_TRUE(outcome.has_value());
+    EXPECT_TRUE(failed);
+    EXPECT_NE(outcome->find("; the sketch was not saved: " + file.string()), std::string::npos)
+        << *outcome;
+    EXPECT_THROW(studio.save(), core::FileWriteError);
+    std::filesystem::remove(file);
+    studio.save();  // the folder gone, the file is written again
+    EXPECT_TRUE(std::filesystem::is_regular_file(file));
 }
 
 TEST(Studio, BadSketchCommandsNameTheLine) {

@@ -148,9 +148,9 @@ class Studio {
     /// The same without waiting for the snapshot (Session::saveInBackground) or sketch.json
     /// (its writer thread). Returns false without a project; pollSave() finishes it.
     bool saveInBackground();
-    std::optional<std::string> pollSave(bool wait = false, bool* failed = nullptr) {
-        return mSession->pollSave(wait, failed);
-    }
+    /// The background save's outcome once it is done (Session::pollSave). A sketch.json write
+    /// that failed since is part of it: the save then counts as failed.
+    std::optional<std::string> pollSave(bool wait = false, bool* failed = nullptr);
 
     SketchPlane plane(size_t pageIndex) const;
     void setPlane(size_t pageIndex, SketchPlane plane);

@@ -181,6 +181,13 @@ struct Sculptor {
     void save(const fs::path& dir, JournalWriter& j) {
         saveProject(dir, configToJson(sculpture.config()), sequence, sculpture, history, j);
     }
+    /// A project in `dir` of one stroke, saved twice: the snapshot and its backup both hold it.
+    void strokeSavedTwice(const fs::path& dir) {
+        JournalWriter j(journalPath(dir), 0);
+        stroke(j, ToolOp::Add, 4, {-20, 0, 0}, {20, 0, 0});
+        save(dir, j);
+        save(dir, j);
+    }
 };
 
 /// Opens a project as the app would: the snapshot's config, its skeletons and history, then
@@ -646,12 +653,7 @@ TEST(Project, AJournalCutAfterDamageIsFirstKeptWhole) {
 TEST(Project, ProjectFilesThatAreNotRegularFilesAreNeverRead) {
     TempDir dir;
     Sculptor s;
-    {
-        JournalWriter j(journalPath(dir.path), 0);
-        s.stroke(j, ToolOp::Add, 4, {-20, 0, 0}, {20, 0, 0});
-        s.save(dir.path, j);
-        s.save(dir.path, j);  // the backup pair holds the stroke too
-    }
+    s.strokeSavedTwice(dir.path);  // the backup pair holds the stroke too
     const std::vector<Entry> saved = entries(s.sculpture);
     fs::remove(snapshotPath(dir.path));
     fs::create_symlink("/dev/zero", snapshotPath(dir.path));
@@ -870,12 +872,7 @@ TEST(Project, ReadProjectWritesNothingAndAGapEndsTheRecovery) {
 TEST(Project, NothingUsableIsAnErrorNamingBothFiles) {
     TempDir dir;
     Sculptor s;
-    {
-        JournalWriter j(journalPath(dir.path), 0);
-        s.stroke(j, ToolOp::Add, 4, {-20, 0, 0}, {20, 0, 0});
-        s.save(dir.path, j);
-        s.save(dir.path, j);
-    }
+    s.strokeSavedTwice(dir.path);
     writeFile(snapshotPath(dir.path), "VSSNAP01 but not much else");
     writeFile(snapshotBackupPath(dir.path), "VSSNAP02 from the future.....");
     try {

@@ -6,13 +6,17 @@
 #include "vsculpt/core/Polygonizer.h"
 #include "vsculpt/core/Sculpture.h"
 #include "vsculpt/render/RayTrace.h"
+#include "vsculpt/render/StereoCamera.h"
 #include "vsculpt/render/Viewer.h"
 
 #include <benchmark/benchmark.h>
+#include <epoxy/gl.h>
 
 #include <chrono>
+#include <cstring>
 #include <map>
 #include <memory>
+#include <vector>
 
 using namespace vsculpt;
 using core::Vec3;
@@ -78,6 +82,58 @@ void BM_FrameDraw(benchmark::State& state) {
     state.SetLabel(viewer->rendererName());
 }
 BENCHMARK(BM_FrameDraw)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// One headset frame as the OpenXR loop draws it (app/src/XrWindow.cpp): both eyes through
+/// Viewer::drawEye into swapchain-sized textures (2064 x 2208 per eye, a current headset's
+/// recommended size), then glFinish. The window itself stays small and hidden: a headset frame
+/// never draws into it.
+void BM_HeadsetFrame(benchmark::State& state) {
+    auto viewer = makeViewer(state);
+    if (!viewer) return;
+    Scene& sc = sceneWith(state.range(0));
+    viewer->syncChunks(*sc.poly);
+    constexpr int width = 2064, height = 2208;
+    GLuint textures[2];
+    glGenTextures(2, textures);
+    for (GLuint t : textures) {
+        glBindTexture(GL_TEXTURE_2D, t);
+        glTexStorage2D(GL_TEXTURE_2D, 1, GL_SRGB8_ALPHA8, width, height);
+    }
+    glBindTexture(GL_TEXTURE_2D, 0);
+    render::StereoDisplay display;
+    const glm::dmat4 worldFromHead =
+        render::frameFromFront(glm::dvec3(-40), glm::dvec3(40), double(width) / height, display);
+    const auto eyes = render::stereoEyes(worldFromHead, display);
+    render::ToolDraw tool;
+    tool.worldPos = Vec3(0, -45, 0);
+    double cpu = 0;
+    size_t tris = 0;
+    for (auto _ : state) {
+        tris = 0;
+        for (int e = 0; e < 2; ++e) {
+            const render::FrameStats st =
+                viewer->drawEye(glm::dmat4(1.0), tool, eyes[size_t(e)], textures[e], width, height);
+            cpu += st.cpuMs;
+            tris += st.triangles;
+        }
+        viewer->finish();
+    }
+    // What share of the left eye's picture differs from its corner (the background): a frame
+    // that drew nothing would be timed as a fast one.
+    std::vector<uint8_t> rgba(size_t(width) * height * 4);
+    glBindTexture(GL_TEXTURE_2D, textures[0]);
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+    glBindTexture(GL_TEXTURE_2D, 0);
+    size_t covered = 0;
+    for (size_t i = 0; i < rgba.size(); i += 4)
+        covered += std::memcmp(&rgba[i], rgba.data(), 3) != 0;
+    glDeleteTextures(2, textures);
+    state.counters["covered"] = double(covered) / (double(width) * height);
+    state.counters["triangles_both_eyes"] = double(tris);
+    state.counters["cpu_ms_per_frame"] = cpu / double(state.iterations());
+    state.SetLabel(viewer->rendererName());
+}
+BENCHMARK(BM_HeadsetFrame)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 /// Re-uploading one changed chunk (its mesh built from the polygonizer's blocks, then the
 /// buffer upload).

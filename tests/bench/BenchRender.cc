@@ -107,14 +107,16 @@ void BM_HeadsetFrame(benchmark::State& state) {
     render::ToolDraw tool;
     tool.worldPos = Vec3(0, -45, 0);
     double cpu = 0;
-    size_t tris = 0;
+    size_t tris = 0, draws = 0;
     for (auto _ : state) {
         tris = 0;
+        draws = 0;
         for (int e = 0; e < 2; ++e) {
             const render::FrameStats st =
                 viewer->drawEye(glm::dmat4(1.0), tool, eyes[size_t(e)], textures[e], width, height);
             cpu += st.cpuMs;
             tris += st.triangles;
+            draws += st.chunksDrawn;
         }
         viewer->finish();
     }
@@ -130,6 +132,7 @@ void BM_HeadsetFrame(benchmark::State& state) {
     glDeleteTextures(2, textures);
     state.counters["covered"] = double(covered) / (double(width) * height);
     state.counters["triangles_both_eyes"] = double(tris);
+    state.counters["chunks_both_eyes"] = double(draws);
     state.counters["cpu_ms_per_frame"] = cpu / double(state.iterations());
     state.SetLabel(viewer->rendererName());
 }

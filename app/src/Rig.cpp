@@ -277,7 +277,9 @@ std::string Rig::save() {
 }
 
 std::string Rig::saveNow() {
-    // The studio is about to be replaced: the snapshot is written before it goes, and said.
+    // The studio is about to be replaced: an import asked for lands in it, and the snapshot
+    // is written before it goes, and said.
+    mStudio->pollImport(true);
     pollSave(true);
     mStudio->save();
     return "saved " + mStudio->session().projectDir()->string();
@@ -288,9 +290,14 @@ std::optional<std::string> Rig::pollSave(bool wait) {
 }
 
 std::optional<std::string> Rig::pollBackgroundWork(bool wait) {
-    std::optional<std::string> saved = pollSave(wait), exported = pollExport(wait);
-    if (saved && exported) return *saved + "; " + *exported;
-    return saved ? saved : exported;
+    // The import first: once in, the save and export that follow hold it. (The save and the
+    // export log their own outcomes.)
+    bool failed = false;
+    std::optional<std::string> said = mStudio->pollImport(wait, &failed);
+    if (said) failed ? spdlog::warn("{}", *said) : spdlog::info("{}", *said);
+    for (std::optional<std::string> done : {pollSave(wait), pollExport(wait)})
+        if (done) said = said ? *said + "; " + *done : *done;
+    return said;
 }
 
 void Rig::close() {

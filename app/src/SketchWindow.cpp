@@ -434,6 +434,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
                                                  : "no project (scratch)";
             view.message = message;
             view.bindings = &cfg.interaction.sketchBindings;
+            uiState.importing = rig->studio().importStatus().value_or("");
             const std::vector<UiAction> actions = sketchUi(uiState, view, cfg, W, H);
             uiImage = uiLayer->endFrame();
             for (const UiAction& a : actions) {

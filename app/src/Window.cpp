@@ -308,6 +308,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
             view.bindings = &cfg.interaction.bindings;
             view.marginPx = float(
                 std::ceil(std::abs(viewer->lastUiShiftNdc(render::Eye::Left)) * uiSize.x / 2));
+            uiState.importing = rig->studio().importStatus().value_or("");
             const std::vector<UiAction> actions = sculptUi(uiState, view, cfg, uiSize.x, uiSize.y);
             uiImage = uiLayer->endFrame();
             uiImage.depthMm = cfg.render.uiDepthMm;

@@ -83,6 +83,11 @@ std::string keyOf(const std::map<std::string, std::string>* bindings, const std:
 
 void projectButtons(UiState& state, const std::map<std::string, std::string>* bindings,
                     std::vector<UiAction>& actions) {
+    if (!state.importing.empty()) {
+        ImGui::TextUnformatted(state.importing.c_str());
+        if (button(state, "cancel import", false, "cancel import"))
+            actions.push_back({"cancel_import"});
+    }
     if (button(state, "save" + keyOf(bindings, "save"), false, "save")) actions.push_back({"save"});
     ImGui::SameLine();
     if (button(state, "save as...", false, "save as..."))
@@ -461,6 +466,10 @@ bool applySharedUiAction(const UiAction& a, Rig& rig, UiState& state, const core
         state.recentList = recentProjects();
         return true;
     }
+    if (n == "cancel_import") {
+        if (rig.studio().cancelImport()) message = "import cancelled: nothing added";
+        return true;
+    }
     const bool fromDialog = n == "save_as" || n == "export" || n == "import";
     if (n != "save" && n != "new_project" && n != "open_project" && n != "save_preferences" &&
         !fromDialog)
@@ -475,9 +484,10 @@ bool applySharedUiAction(const UiAction& a, Rig& rig, UiState& state, const core
         } else if (n == "export") {
             message = rig.exportTo(a.path, a.exportOptions);
         } else if (n == "import") {
-            const int level = rig.studio().importMesh(a.path, a.importOptions);
-            message = "imported " + a.path.string() + " as clay (level " + std::to_string(level) +
-                      "); U undoes it";
+            // Read and placed beside the frame (a scan can take seconds); the frame's poll
+            // (Rig::pollBackgroundWork) says when it is in.
+            rig.studio().importMeshInBackground(a.path, a.importOptions);
+            message = "importing " + a.path.string() + "...";
             state.lastImportPath = a.path.string();
         } else if (n == "new_project") {
             message = rig.newProject();

@@ -532,10 +532,7 @@ Mesh makeSolidMesh(const Mesh& mesh, const std::string& name, const ImportOption
     return m;
 }
 
-Mesh importMesh(const std::filesystem::path& path, const ImportOptions& options,
-                ImportReport* report) {
-    ImportReport local;
-    ImportReport& r = report ? *report : local;
+void checkImportFile(const std::filesystem::path& path, const ImportOptions& options) {
     const std::string name = path.string();
     const std::string ext = lower(path.extension().string());
     const auto& known = importExtensions();
@@ -575,6 +572,15 @@ Mesh importMesh(const std::filesystem::path& path, const ImportOptions& options,
             !problem.empty())
             throw ImportError(name + ":" + problem);
     }
+}
+
+Mesh importMesh(const std::filesystem::path& path, const ImportOptions& options,
+                ImportReport* report) {
+    ImportReport local;
+    ImportReport& r = report ? *report : local;
+    const std::string name = path.string();
+    const std::string ext = lower(path.extension().string());
+    checkImportFile(path, options);
 
     Assimp::Importer importer;
     // Only positions and faces matter: everything else is dropped before the other steps.

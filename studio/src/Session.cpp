@@ -472,6 +472,15 @@ int Session::addSolid(const Mesh& solid, int level, bool replaceLast) {
     }
     if (!takeAway.empty())
         placed.changes.insert(placed.changes.begin(), takeAway.begin(), takeAway.end());
+    return commitSolid(std::move(placed), takenBox);
+}
+
+int Session::addPlacedSolid(int level, std::span<const SkeletonChange> placedChanges) {
+    endStroke();
+    return commitSolid(replaySolid(*mSculpture, level, placedChanges), Aabb{});
+}
+
+int Session::commitSolid(SolidPlacement placed, const Aabb& takenBox) {
     if (placed.changes.size() > kMaxJournalSolidChanges) {
         revertChanges(*mSculpture, placed.changes);
         throw SessionError("solid changes " + std::to_string(placed.changes.size()) +

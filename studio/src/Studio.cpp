@@ -3,6 +3,7 @@
 
 #include "vsculpt/studio/SketchSolids.h"
 
+#include "vsculpt/studio/ImportInBackground.h"
 #include "vsculpt/studio/SketchFileWriter.h"
 
 #include "vsculpt/core/JsonNesting.h"
@@ -16,6 +17,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 
@@ -378,13 +380,84 @@ int Studio::importMesh(const std::filesystem::path& file, const core::ImportOpti
     const core::Mesh solid = core::importMesh(file, options, &r);
     if (level == 0) level = core::importLevelFor(mSession->sculpture().levels(), solid);
     const int used = addSolid(solid, level);
-    for (const std::string& note : r.notes) {
+    tellNotes(r);
+    return used;
+}
+
+void Studio::tellNotes(const core::ImportReport& report) const {
+    for (const std::string& note : report.notes) {
         if (mNotice)
             mNotice(note);
         else
             spdlog::warn("{}", note);  // the program's logger (app/Log.h)
     }
-    return used;
+}
+
+void Studio::importMeshInBackground(const std::filesystem::path& file,
+                                    const core::ImportOptions& options, int level) {
+    if (mImport)
+        throw SessionError("still importing " + mImport->file().string() +
+                           ": import again once it is in");
+    core::checkImportFile(file, options);  // a mistyped path is refused at once
+    endStroke();
+    mImport =
+        std::make_unique<ImportInBackground>(file, options, level, mSession->sculpture().clone());
+}
+
+std::optional<std::string> Studio::importStatus() const {
+    if (!mImport) return std::nullopt;
+    char line[64];
+    std::snprintf(line, sizeof line, " (%.0f s)...", mImport->secondsSinceStart());
+    return "importing " + mImport->file().string() +
+           (mImport->phase() == ImportInBackground::Phase::Reading ? ": reading" : ": placing") +
+           line;
+}
+
+std::optional<std::string> Studio::pollImport(bool wait, bool* failed) {
+    if (failed) *failed = false;
+    std::erase_if(mEndingImports, [](const auto& i) { return i->ended(); });
+    while (mImport && (wait || mImport->done())) {
+        // The samples of a stroke in progress are on the sculpture already: the stroke ends
+        // before the import is committed, so the copy is compared with all of it.
+        if (wait) endStroke();
+        if (mSession->inStroke()) return std::nullopt;
+        ImportInBackground::Result r = mImport->take();
+        if (r.error.empty() && r.placedOnWrites != mSession->sculpture().store().writeCount()) {
+            // Sculpted meanwhile: the copy's decisions may not hold here. Place again.
+            mImport->placeAgain(mSession->sculpture().clone());
+            continue;
+        }
+        const std::filesystem::path file = mImport->file();
+        // Its thread frees the mesh (milliseconds for a large one) beside the frame.
+        mImport->finish();
+        mEndingImports.push_back(std::move(mImport));
+        if (!r.error.empty()) {
+            if (failed) *failed = true;
+            return "import failed: " + r.error;
+        }
+        try {
+            const int used =
+                sculpt([&](Session& s) { return s.addPlacedSolid(r.level, r.changes); });
+            tellNotes(r.report);
+            char took[64];
+            std::snprintf(took, sizeof took, " in %.1f s", r.seconds);
+            return "imported " + file.string() + " as clay (level " + std::to_string(used) + ", " +
+                   std::to_string(r.report.triangles) + " triangles" + took + "); U undoes it";
+        } catch (const std::exception& e) {
+            if (failed) *failed = true;
+            return "import of " + file.string() + " failed: " + e.what();
+        }
+    }
+    return std::nullopt;
+}
+
+bool Studio::cancelImport() {
+    if (!mImport) return false;
+    // Its thread ends with the phase under way, seconds for a large scan: the frame does not
+    // wait for that (pollImport lets it go once ended, the destructor waits).
+    mImport->finish();
+    mEndingImports.push_back(std::move(mImport));
+    return true;
 }
 
 void Studio::save() {

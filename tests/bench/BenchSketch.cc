@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Sketch to clay (issue #8): how long a sketched solid takes to become clay and to show.
+#include "vsculpt/core/ExportMesh.h"
 #include "vsculpt/core/PlaceSolid.h"
 #include "vsculpt/core/Polygonizer.h"
 #include "vsculpt/core/Sculpture.h"
@@ -19,6 +20,7 @@
 #include <cmath>
 #include <filesystem>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace vsculpt::core {
@@ -149,6 +151,79 @@ BENCHMARK(BM_SketchStepInAProject)
     ->ArgsProduct({{100, 600}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(2);
+
+/// What importing a large mesh costs the frame (the windows' import dialog): a ball of
+/// about range(0) triangles, r = 80 mm over the initial sphere, as a binary STL, into a project
+/// with asynchronous meshing as the windows run it. `frame_before_ms`: Studio::importMesh, which
+/// the frame ran until stop 33. Now: Studio::importMeshInBackground (the check and the
+/// sculpture's copy) and then a poll every 11.1 ms frame (90 Hz) until it lands; the frames'
+/// largest poll is the one that commits it (the copy's after-states set here, journaled).
+void BM_ImportRequest(benchmark::State& state) {
+    const int rings = int(std::lround(std::sqrt(double(state.range(0)) / 4)));
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("vsculpt-bench-import-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const auto file = dir / "ball.stl";
+    exportMesh(sphereMesh(Vec3(0), 80, rings, 2 * rings), file);
+    SculptConfig cfg;
+    (void)solidCalibration(Sculpture(cfg).levels());  // the one-off calibration, kept out
+    auto fresh = [&](const char* name) {
+        std::filesystem::remove_all(dir / name);
+        auto studio = studio::Studio::openProject(dir / name, cfg);
+        studio->setAsyncMeshing(true);
+        return studio;
+    };
+    using Clock = std::chrono::steady_clock;
+    auto ms = [](Clock::time_point a, Clock::time_point b) {
+        return std::chrono::duration<double, std::milli>(b - a).count();
+    };
+    double beforeMs = 0, startMs = 0, commitMs = 0, otherFramesMs = 0, landS = 0;
+    size_t frames = 0, changed = 0;
+    for (auto _ : state) {
+        {
+            auto studio = fresh("waited");
+            const auto t0 = Clock::now();
+            studio->importMesh(file);
+            beforeMs = ms(t0, Clock::now());
+            changed = studio->session().history().done().back().changes.size();
+        }
+        auto studio = fresh("background");
+        const auto t0 = Clock::now();
+        studio->importMeshInBackground(file);
+        startMs = ms(t0, Clock::now());
+        frames = 0;
+        otherFramesMs = 0;
+        for (auto next = t0;;) {
+            next += std::chrono::microseconds(11111);
+            std::this_thread::sleep_until(next);
+            const auto f0 = Clock::now();
+            const bool landed = studio->pollImport().has_value();
+            const double frameMs = ms(f0, Clock::now());
+            ++frames;
+            if (landed) {
+                commitMs = frameMs;
+                landS = ms(t0, Clock::now()) / 1000;
+                break;
+            }
+            otherFramesMs = std::max(otherFramesMs, frameMs);
+        }
+    }
+    std::filesystem::remove_all(dir);
+    state.counters["frame_before_ms"] = beforeMs;
+    state.counters["start_ms"] = startMs;
+    state.counters["commit_ms"] = commitMs;
+    state.counters["max_other_frame_ms"] = otherFramesMs;
+    state.counters["land_s"] = landS;
+    state.counters["frames"] = double(frames);
+    state.counters["vertices_changed"] = double(changed);
+}
+BENCHMARK(BM_ImportRequest)
+    ->Arg(200000)
+    ->Arg(2000000)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace vsculpt::core

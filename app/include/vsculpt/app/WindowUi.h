@@ -61,10 +61,13 @@ struct UiState {
     std::string pathField;       ///< the dialog's path text
     double importFitMm = 0;      ///< import dialog: scale to this largest extent (0: as is)
     std::string lastImportPath;  ///< proposed again by the next import dialog
-    std::string dialogError;     ///< shown in the dialog when its action failed
-    bool refocusField = false;   ///< give the path field the keyboard again (after an error)
-    int exportUp = 0;            ///< 0: the format's default, 1: +Y, 2: +Z
-    int exportUnits = 0;         ///< 0: the format's default, 1: mm, 2: cm, 3: m
+    /// Work running beside the frame that can be cancelled (Studio::importStatus), shown
+    /// above the project buttons with a "cancel import" button; the window sets it each frame.
+    std::string importing;
+    std::string dialogError;    ///< shown in the dialog when its action failed
+    bool refocusField = false;  ///< give the path field the keyboard again (after an error)
+    int exportUp = 0;           ///< 0: the format's default, 1: +Y, 2: +Z
+    int exportUnits = 0;        ///< 0: the format's default, 1: mm, 2: cm, 3: m
     std::vector<std::filesystem::path> recentList;  ///< refreshed when the list opens
     std::string preferencesNote;                    ///< where Save preferences wrote
 

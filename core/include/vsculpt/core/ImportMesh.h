@@ -103,6 +103,11 @@ double parseImportUnit(std::string_view text);
 Mesh importMesh(const std::filesystem::path& path, const ImportOptions& options = {},
                 ImportReport* report = nullptr);
 
+/// The checks importMesh() makes before it reads the file (extension, options, a folder, an
+/// unreadable, empty or too large file, a damaged PLY header), with the same errors: quick,
+/// so a dialog can refuse a mistyped path at once before the import runs on a thread.
+void checkImportFile(const std::filesystem::path& path, const ImportOptions& options = {});
+
 /// The tool level an imported solid is placed on when none is given: the coarsest level
 /// whose lattice spacing is at most half the solid's mean thickness (volume / surface area:
 /// a quarter of a tube's radius, a sixth of a ball's), so its thinner parts keep their

@@ -11,6 +11,7 @@
 #include "vsculpt/core/History.h"
 #include "vsculpt/core/Mesh.h"
 #include "vsculpt/core/MeshChunks.h"
+#include "vsculpt/core/PlaceSolid.h"
 #include "vsculpt/core/PlaceStroke.h"
 #include "vsculpt/core/Polygonizer.h"
 #include "vsculpt/core/Project.h"
@@ -112,6 +113,12 @@ class Session {
     /// clay away and adds the new solid, so undoing it brings the previous solid back
     /// (regenerating a solid after its sketch was edited).
     int addSolid(const core::Mesh& solid, int level = 0, bool replaceLast = false);
+    /// addSolid for a solid placed on a copy of this sculpture (core::placeSolid on
+    /// Sculpture::clone(), as Studio's import in the background does): sets the copy's
+    /// after-states here (core::replaySolid), one step, journaled. The same clay as addSolid
+    /// only when the copy was taken from the sculpture as it is now (the caller compares
+    /// SkeletonStore::writeCount()). Errors as addSolid.
+    int addPlacedSolid(int level, std::span<const core::SkeletonChange> placedChanges);
     bool undo();
     bool redo();
     /// Writes a snapshot and starts a new journal, keeping the previous pair as a backup
@@ -202,6 +209,9 @@ class Session {
     Session(const core::SculptConfig& cfg, bool);
     void rebuildView();
     void journal(const core::JournalRecord& r);
+    /// The end of addSolid and addPlacedSolid: `placed` is on the sculpture; checks its size,
+    /// updates the mesh, journals it and makes it one undo step (undoing it all on failure).
+    int commitSolid(core::SolidPlacement placed, const core::Aabb& takenBox);
     /// The mesh follows an edit: f changed within `radius` of the points, or in the box.
     /// `focus`: where the tool is (the async mesher rebuilds around it first).
     void meshChanged(std::span<const core::Vec3> points, double radius,

@@ -27,6 +27,7 @@
 
 namespace vsculpt::studio {
 
+class ImportInBackground;
 class SketchFileWriter;
 
 /// Which view a page is drawn on: how its canvas millimetres map into object space (z up;
@@ -102,6 +103,28 @@ class Studio {
     /// placeSolid refuses (too fine a level); the sculpture is unchanged then.
     int importMesh(const std::filesystem::path& file, const core::ImportOptions& options = {},
                    int level = 0, core::ImportReport* report = nullptr);
+    /// importMesh without the wait (the windows): the file is read, cleaned and placed on a
+    /// thread of its own against a copy of the sculpture (ImportInBackground.h), while the
+    /// frame and sculpting go on; pollImport() commits it. Throws SessionError while another
+    /// import runs, and core::ImportError at once for what core::checkImportFile refuses (a
+    /// missing file, an unknown extension); errors found while reading come from pollImport.
+    void importMeshInBackground(const std::filesystem::path& file,
+                                const core::ImportOptions& options = {}, int level = 0);
+    /// The import under way, for a status line ("importing scan.stl: placing (3 s)..."), or
+    /// nothing.
+    std::optional<std::string> importStatus() const;
+    /// Once the import in the background is done: commits it as one step (as importMesh
+    /// does: journaled, notes to the notice sink) and returns what happened, for the user
+    /// ("imported FILE as clay (level L)...", or why it failed, naming the file); `failed`
+    /// tells which. Returns nothing while it runs or when none was started, and also when the
+    /// sculpture changed since its copy was taken: the mesh is then placed again on a fresh
+    /// copy (not read again), so the clay is what importMesh would make now. A stroke in
+    /// progress is finished first (its samples all count). `wait`: until it is committed
+    /// (a window's close, a project switch).
+    std::optional<std::string> pollImport(bool wait = false, bool* failed = nullptr);
+    /// Drops the import under way at once (nothing is added; its thread ends with the phase
+    /// under way, beside the frame); false when there was none.
+    bool cancelImport();
     /// Where notes for the user go (one line each, no newline); by default spdlog warnings
     /// (stderr in the program, app/Log.h). Playback and the windows may route them elsewhere.
     void setNoticeSink(std::function<void(const std::string&)> sink) { mNotice = std::move(sink); }
@@ -209,6 +232,8 @@ class Studio {
         }
     }
     void noteSculptSteps();
+    /// An import's notes (a repaired mesh, rewound triangles) to the notice sink.
+    void tellNotes(const core::ImportReport& report) const;
     void loadSketchFile();
     /// After loadSketchFile failed with `why`: the studio as if there were no file.
     void openWithoutSketchFile(const std::string& why, std::vector<Step> sculptDone,
@@ -247,6 +272,8 @@ class Studio {
     std::optional<std::filesystem::path> mFile;
     SurfaceProjector mProjector;
     std::function<void(const std::string&)> mNotice;
+    std::unique_ptr<ImportInBackground> mImport;  // the import in the background, if any
+    std::vector<std::unique_ptr<ImportInBackground>> mEndingImports;  // done or cancelled, ending
     // Last: destroyed first, writing what is pending while the rest still stands.
     std::unique_ptr<SketchFileWriter> mSketchWriter;
 };

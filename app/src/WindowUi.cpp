@@ -487,7 +487,8 @@ bool applySharedUiAction(const UiAction& a, Rig& rig, UiState& state, const core
             // Read and placed beside the frame (a scan can take seconds); the frame's poll
             // (Rig::pollBackgroundWork) says when it is in.
             rig.studio().importMeshInBackground(a.path, a.importOptions);
-            message = "importing " + a.path.string() + "...";
+            spdlog::info("importing {}", a.path.string());
+            message.clear();  // the panel's import line (UiState::importing) says it
             state.lastImportPath = a.path.string();
         } else if (n == "new_project") {
             message = rig.newProject();

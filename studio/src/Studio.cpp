@@ -421,32 +421,45 @@ std::optional<std::string> Studio::pollImport(bool wait, bool* failed) {
         // before the import is committed, so the copy is compared with all of it.
         if (wait) endStroke();
         if (mSession->inStroke()) return std::nullopt;
-        ImportInBackground::Result r = mImport->take();
-        if (r.error.empty() && r.placedOnWrites != mSession->sculpture().store().writeCount()) {
+        const std::filesystem::path file = mImport->file();
+        std::string said;
+        bool bad = false, again = false;
+        {
+            ImportInBackground::Result r = mImport->take();
             // Sculpted meanwhile: the copy's decisions may not hold here. Place again.
+            again =
+                r.error.empty() && r.placedOnWrites != mSession->sculpture().store().writeCount();
+            if (again) {
+            } else if (!r.error.empty()) {
+                bad = true;
+                said = "import failed: " + r.error;
+            } else {
+                try {
+                    const int used =
+                        sculpt([&](Session& s) { return s.addPlacedSolid(r.level, r.changes); });
+                    tellNotes(r.report);
+                    char took[64];
+                    std::snprintf(took, sizeof took, " in %.1f s", r.seconds);
+                    said = "imported " + file.string() + " as clay (level " + std::to_string(used) +
+                           ", " + std::to_string(r.report.triangles) + " triangles" + took +
+                           "); U undoes it";
+                } catch (const std::exception& e) {
+                    bad = true;
+                    said = "import of " + file.string() + " failed: " + e.what();
+                }
+            }
+        }
+        // Only now, with the result freed here, does its thread go on (placing again, or
+        // freeing the mesh: milliseconds for a large one) beside the frame: doing both at
+        // once, the frame would wait for the allocator's lock of that thread's heap.
+        if (again) {
             mImport->placeAgain(mSession->sculpture().clone());
             continue;
         }
-        const std::filesystem::path file = mImport->file();
-        // Its thread frees the mesh (milliseconds for a large one) beside the frame.
         mImport->finish();
         mEndingImports.push_back(std::move(mImport));
-        if (!r.error.empty()) {
-            if (failed) *failed = true;
-            return "import failed: " + r.error;
-        }
-        try {
-            const int used =
-                sculpt([&](Session& s) { return s.addPlacedSolid(r.level, r.changes); });
-            tellNotes(r.report);
-            char took[64];
-            std::snprintf(took, sizeof took, " in %.1f s", r.seconds);
-            return "imported " + file.string() + " as clay (level " + std::to_string(used) + ", " +
-                   std::to_string(r.report.triangles) + " triangles" + took + "); U undoes it";
-        } catch (const std::exception& e) {
-            if (failed) *failed = true;
-            return "import of " + file.string() + " failed: " + e.what();
-        }
+        if (failed) *failed = bad;
+        return said;
     }
     return std::nullopt;
 }

@@ -113,6 +113,10 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
         spdlog::error("no GL context for the headset: {}", e.what());
         return 1;
     }
+    if (const int samples = viewer->setEyeSamples(cfg.render.xr.msaaSamples);
+        samples != cfg.render.xr.msaaSamples)
+        spdlog::warn("render.xr.msaa_samples {}: this GL offers {} at most; using {}",
+                     cfg.render.xr.msaaSamples, samples, samples);
     std::unique_ptr<Rig> rig;
     try {
         rig = std::make_unique<Rig>(cfg, windowRigOptions(o.projectDir, o.noProject, o.devices));

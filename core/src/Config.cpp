@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <climits>
 #include <cmath>
 #include <cstdlib>
@@ -521,6 +522,11 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
     xr.number("haptic_touching", cfg.render.xr.hapticTouching);
     xr.number("haptic_inside", cfg.render.xr.hapticInside);
     xr.number("haptic_pulse_ms", cfg.render.xr.hapticPulseMs);
+    if (const json* v = xr.find("msaa_samples")) {
+        if (!(isIntegerIn(*v, 1, 8) && std::has_single_bit(v->get<unsigned>())))
+            xr.fail("render.xr.msaa_samples", "expected 1, 2, 4 or 8 (1: off), got " + v->dump());
+        cfg.render.xr.msaaSamples = v->get<int>();
+    }
     xr.rejectUnknown();
     rend.rejectUnknown();
 
@@ -602,7 +608,8 @@ std::string configToJson(const SculptConfig& c) {
                      {"trigger_penetration_mm", x.triggerPenetrationMm},
                      {"haptic_touching", x.hapticTouching},
                      {"haptic_inside", x.hapticInside},
-                     {"haptic_pulse_ms", x.hapticPulseMs}}},
+                     {"haptic_pulse_ms", x.hapticPulseMs},
+                     {"msaa_samples", x.msaaSamples}}},
                    {"stereo", c.render.stereo},
                    {"ipd_mm", c.render.ipdMm},
                    {"vertical_fov_deg", c.render.verticalFovDeg},
@@ -737,6 +744,9 @@ void validateConfig(const SculptConfig& c) {
             if (!(v >= 0 && v <= 1)) fail(key, "must be in [0, 1] (0: no pulse)");
         if (!(x.hapticPulseMs > 0 && x.hapticPulseMs <= 1000))
             fail("render.xr.haptic_pulse_ms", "must be in (0, 1000] ms");
+        if (!(x.msaaSamples >= 1 && x.msaaSamples <= 8 &&
+              std::has_single_bit(unsigned(x.msaaSamples))))
+            fail("render.xr.msaa_samples", "must be 1, 2, 4 or 8 (1: off)");
     }
     for (const auto& [key, v] : {std::pair{"render.lens.k1", c.render.lensK1},
                                  std::pair{"render.lens.k2", c.render.lensK2}})

@@ -112,6 +112,11 @@ struct Viewer::Impl {
     EyeView monoEye;
     // Headset eyes (drawEye): a framebuffer for the swapchain texture and its depth.
     GLuint xrFbo = 0, xrDepth = 0;
+    // Multisampled eyes (setEyeSamples): drawn here, then resolved into the swapchain image.
+    int eyeSamples = 1;
+    GLuint msFbo = 0, msColor = 0, msDepth = 0;
+    int msW = 0, msH = 0, msSamples = 0;
+    GLint msFormat = 0;
     GLuint copyFrom = 0, copyTo = 0;  // copyTexture's framebuffers: colour only
     int xrW = 0, xrH = 0;
 };
@@ -174,6 +179,11 @@ Viewer::~Viewer() {
     if (mImpl->xrFbo) {
         glDeleteFramebuffers(1, &mImpl->xrFbo);
         glDeleteRenderbuffers(1, &mImpl->xrDepth);
+    }
+    if (mImpl->msFbo) {
+        glDeleteFramebuffers(1, &mImpl->msFbo);
+        glDeleteRenderbuffers(1, &mImpl->msColor);
+        glDeleteRenderbuffers(1, &mImpl->msDepth);
     }
     if (mImpl->copyFrom) {
         glDeleteFramebuffers(1, &mImpl->copyFrom);
@@ -452,18 +462,53 @@ FrameStats Viewer::drawEye(const glm::dmat4& worldFromObject, const ToolDraw& to
     Impl& m = *mImpl;
     if (!m.xrFbo) glGenFramebuffers(1, &m.xrFbo);
     glBindFramebuffer(GL_FRAMEBUFFER, m.xrFbo);
-    if (m.xrW != width || m.xrH != height) {
+    const bool multisample = m.eyeSamples > 1;
+    if (!multisample && (m.xrW != width || m.xrH != height || !m.xrDepth)) {
         if (m.xrDepth) glDeleteRenderbuffers(1, &m.xrDepth);
         glGenRenderbuffers(1, &m.xrDepth);
         glBindRenderbuffer(GL_RENDERBUFFER, m.xrDepth);
         glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, m.xrDepth);
         m.xrW = width;
         m.xrH = height;
     }
+    // Multisampled: the texture only takes the resolve, so it needs no depth.
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
+                              multisample ? 0 : m.xrDepth);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colorTexture, 0);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
         throw RenderError("headset eye framebuffer incomplete");
+    if (multisample) {
+        // A resolve needs the same format on both sides: the swapchain image's.
+        GLint format = 0;
+        glBindTexture(GL_TEXTURE_2D, colorTexture);
+        glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
+        glBindTexture(GL_TEXTURE_2D, 0);
+        if (!m.msFbo) {
+            glGenFramebuffers(1, &m.msFbo);
+            glGenRenderbuffers(1, &m.msColor);
+            glGenRenderbuffers(1, &m.msDepth);
+        }
+        glBindFramebuffer(GL_FRAMEBUFFER, m.msFbo);
+        if (m.msW != width || m.msH != height || m.msSamples != m.eyeSamples ||
+            m.msFormat != format) {
+            glBindRenderbuffer(GL_RENDERBUFFER, m.msColor);
+            glRenderbufferStorageMultisample(GL_RENDERBUFFER, m.eyeSamples, GLenum(format), width,
+                                             height);
+            glBindRenderbuffer(GL_RENDERBUFFER, m.msDepth);
+            glRenderbufferStorageMultisample(GL_RENDERBUFFER, m.eyeSamples, GL_DEPTH_COMPONENT24,
+                                             width, height);
+            glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                                      m.msColor);
+            glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
+                                      m.msDepth);
+            m.msW = width;
+            m.msH = height;
+            m.msSamples = m.eyeSamples;
+            m.msFormat = format;
+        }
+        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+            throw RenderError("headset eye multisample framebuffer incomplete");
+    }
     glViewport(0, 0, width, height);
     glEnable(GL_DEPTH_TEST);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
@@ -513,6 +558,13 @@ FrameStats Viewer::drawEye(const glm::dmat4& worldFromObject, const ToolDraw& to
             m.sphere.draw();
         }
     }
+    if (multisample) {
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, m.msFbo);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.xrFbo);
+        glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT,
+                          GL_NEAREST);
+        glBindFramebuffer(GL_FRAMEBUFFER, m.xrFbo);
+    }
     // The compositor reads the texture next: detach it so the framebuffer holds no image.
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -520,6 +572,17 @@ FrameStats Viewer::drawEye(const glm::dmat4& worldFromObject, const ToolDraw& to
     stats.cpuMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return stats;
+}
+
+int Viewer::setEyeSamples(int samples) {
+    GLint most = 1;
+    glGetIntegerv(GL_MAX_SAMPLES, &most);
+    mImpl->eyeSamples = std::clamp(samples, 1, std::max(1, int(most)));
+    return mImpl->eyeSamples;
+}
+
+int Viewer::eyeSamples() const {
+    return mImpl->eyeSamples;
 }
 
 void Viewer::blitToWindow(unsigned colorTexture, int width, int height) {

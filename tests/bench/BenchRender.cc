@@ -86,10 +86,11 @@ BENCHMARK(BM_FrameDraw)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond
 /// One headset frame as the OpenXR loop draws it (app/src/XrWindow.cpp): both eyes through
 /// Viewer::drawEye into swapchain-sized textures (2064 x 2208 per eye, a current headset's
 /// recommended size), then glFinish. The window itself stays small and hidden: a headset frame
-/// never draws into it.
+/// never draws into it. range(1): samples a pixel (Viewer::setEyeSamples; 1: off).
 void BM_HeadsetFrame(benchmark::State& state) {
     auto viewer = makeViewer(state);
     if (!viewer) return;
+    state.counters["samples"] = viewer->setEyeSamples(int(state.range(1)));
     Scene& sc = sceneWith(state.range(0));
     viewer->syncChunks(*sc.poly);
     constexpr int width = 2064, height = 2208;
@@ -136,7 +137,11 @@ void BM_HeadsetFrame(benchmark::State& state) {
     state.counters["cpu_ms_per_frame"] = cpu / double(state.iterations());
     state.SetLabel(viewer->rendererName());
 }
-BENCHMARK(BM_HeadsetFrame)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_HeadsetFrame)
+    ->ArgsProduct({{100000, 1000000}, {1, 4}})
+    ->ArgNames({"triangles", "samples"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 /// Re-uploading one changed chunk (its mesh built from the polygonizer's blocks, then the
 /// buffer upload).

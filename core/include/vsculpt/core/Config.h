@@ -141,6 +141,10 @@ struct XrConfig {
     /// Haptic amplitude on the pen hand while the tool touches the clay / is inside it.
     double hapticTouching = 0.3, hapticInside = 0.8;
     double hapticPulseMs = 20;  ///< each pulse's length; renewed every frame of contact
+    /// Samples per pixel of the eyes' images (multisample antialiasing, resolved into the
+    /// swapchain image): 1, 2, 4 or 8; 1: off. Silhouettes that shimmer as the head moves
+    /// are what a headset shows without it.
+    int msaaSamples = 4;
 };
 
 struct RenderConfig {

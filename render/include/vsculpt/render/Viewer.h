@@ -119,6 +119,11 @@ class Viewer {
     /// headset's compositor corrects).
     FrameStats drawEye(const glm::dmat4& worldFromObject, const ToolDraw& tool, const EyeView& eye,
                        unsigned colorTexture, int width, int height);
+    /// Samples per pixel for drawEye (multisample antialiasing: drawn into multisampled
+    /// buffers of the swapchain image's format, then resolved into it); 1: off, the default.
+    /// Clamped to what the GL offers (GL_MAX_SAMPLES); returns the number used.
+    int setEyeSamples(int samples);
+    int eyeSamples() const;
     /// Copies a `width` x `height` texture into the window, scaled to fit (the headset's
     /// mirror on the desktop).
     void blitToWindow(unsigned colorTexture, int width, int height);

@@ -617,6 +617,10 @@ JournalWriter::JournalWriter(const fs::path& path, uint64_t validBytes, SyncFn s
         }
         if (::lseek(mFd, 0, SEEK_END) < 0)
             throw ProjectError(path.string() + ": cannot seek: " + errnoText(errno));
+        // A restart that a crash cut short before its rename (reset, step 2): the journal
+        // beside it is whole and the one in use, so the leftover only takes space.
+        std::error_code gone;
+        fs::remove(path.string() + ".restart", gone);
     } catch (...) {
         ::close(mFd);
         mFd = -1;

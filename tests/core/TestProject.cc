@@ -1341,5 +1341,23 @@ TEST(Project, AppendsGoOnWhileAResetFlushesTheNewJournal) {
     EXPECT_FALSE(fs::exists(journalPath(dir.path).string() + ".restart"));
 }
 
+TEST(Project, ARestartLeftByACrashIsRemovedWhenTheJournalIsOpened) {
+    TempDir dir;
+    const fs::path restart = journalPath(dir.path).string() + ".restart";
+    {
+        JournalWriter j(journalPath(dir.path), 0);
+        j.append(strokeRecord(1, ToolOp::Add, 4, {0, 0, 0}, {9, 1, 0}));
+        j.waitDurable();
+    }
+    // What a crash during reset's flush leaves: a half-written restart beside the journal.
+    std::ofstream(restart) << "VSJL half a restart";
+    const JournalContents before = readJournal(journalPath(dir.path));
+    JournalWriter j(journalPath(dir.path), before.validBytes);
+    EXPECT_FALSE(fs::exists(restart));
+    j.append(strokeRecord(2, ToolOp::Add, 4, {0, 0, 0}, {9, 2, 0}));
+    j.waitDurable();
+    EXPECT_EQ(readJournal(journalPath(dir.path)).records.size(), 2u);
+}
+
 }  // namespace
 }  // namespace vsculpt::core

@@ -17,6 +17,7 @@
 #include <map>
 #include <string>
 #include <tuple>
+#include <vector>
 
 using namespace vsculpt;
 using core::Vec3;
@@ -47,11 +48,18 @@ std::filesystem::path meshFile(const TempDir& dir) {
     return path;
 }
 
-/// The stroke the sculptor makes while the import runs: over the initial sphere and into
-/// where the imported part lands, so a placement against the clay as it was would differ.
-void sculptMeanwhile(Studio& s) {
-    s.setSize(5);
-    s.stroke({Vec3(-20, 0, 15), Vec3(0, 0, 20), Vec3(20, 0, 15)}, false);
+/// The stroke the sculptor makes while the import runs (size 5): over the initial sphere and
+/// into where the imported part lands, so a placement against the clay as it was would differ.
+const std::vector<Vec3> kMeanwhile{Vec3(-20, 0, 15), Vec3(0, 0, 20), Vec3(20, 0, 15)};
+
+/// What the sculptor asked for, in the order it landed: that stroke, then the waiting import.
+std::map<std::tuple<int, int, int, int>, uint32_t> strokeThenImport(
+    const std::filesystem::path& file) {
+    Studio waited(test::smallConfig(20));
+    waited.setSize(5);
+    waited.stroke(kMeanwhile, false);
+    waited.importMesh(file);
+    return skeletons(waited);
 }
 
 }  // namespace
@@ -84,18 +92,14 @@ TEST(ImportInBackground, LandsAsTheClayTheWaitingImportMakesAndUndoesToTheStart)
 TEST(ImportInBackground, SculptingMeanwhilePlacesItAgainOnTheClayAsItIsThen) {
     TempDir dir;
     const auto file = meshFile(dir);
-    // What the sculptor asked for, in the order it landed: the stroke, then the import.
-    Studio waited(test::smallConfig(20));
-    sculptMeanwhile(waited);
-    waited.importMesh(file);
-
     Studio background(test::smallConfig(20));
     const auto start = skeletons(background);
     background.importMeshInBackground(file);
-    sculptMeanwhile(background);  // does not wait for the import: its copy is not this clay
+    background.setSize(5);
+    background.stroke(kMeanwhile, false);  // does not wait: the import's copy is not this clay
     ASSERT_TRUE(background.pollImport(true));
     EXPECT_EQ(background.stepCount(), 2u);
-    EXPECT_EQ(skeletons(background), skeletons(waited));
+    EXPECT_EQ(skeletons(background), strokeThenImport(file));
     ASSERT_TRUE(background.undo());
     ASSERT_TRUE(background.undo());
     EXPECT_EQ(skeletons(background), start);
@@ -104,23 +108,19 @@ TEST(ImportInBackground, SculptingMeanwhilePlacesItAgainOnTheClayAsItIsThen) {
 TEST(ImportInBackground, AStrokeInProgressIsFinishedBeforeTheImportLands) {
     TempDir dir;
     const auto file = meshFile(dir);
-    Studio waited(test::smallConfig(20));
-    sculptMeanwhile(waited);
-    waited.importMesh(file);
-
     Studio background(test::smallConfig(20));
     background.importMeshInBackground(file);
     background.setSize(5);
     background.beginStroke();
-    background.strokeSample(Vec3(-20, 0, 15), false);
-    background.strokeSample(Vec3(0, 0, 20), false);
+    background.strokeSample(kMeanwhile[0], false);
+    background.strokeSample(kMeanwhile[1], false);
     // However long the import takes, it does not land inside the stroke.
     for (int i = 0; i < 50; ++i)
         EXPECT_FALSE(background.pollImport(false));
-    background.strokeSample(Vec3(20, 0, 15), false);
+    background.strokeSample(kMeanwhile[2], false);
     background.endStroke();
     ASSERT_TRUE(background.pollImport(true));
-    EXPECT_EQ(skeletons(background), skeletons(waited));
+    EXPECT_EQ(skeletons(background), strokeThenImport(file));
 }
 
 TEST(ImportInBackground, ACancelledImportAddsNothingAndAFailedOneSaysWhy) {

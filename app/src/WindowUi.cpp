@@ -189,6 +189,18 @@ void dialog(UiState& state, std::vector<UiAction>& actions) {
     if (importDialog) {
         ImGui::SetNextItemWidth(140);
         ImGui::InputDouble("fit to mm (0: as is)", &state.importFitMm, 0, 0, "%.1f");
+        // The lattice the clay is made on: finer is smoother and truer, with more skeletons
+        // to carry (docs/import.md, "Placement: the level").
+        ImGui::SetNextItemWidth(260);
+        ImGui::Combo("clay level", &state.importLevel,
+                     "auto (from its thickness)\0"
+                     "1 (finest)\0"
+                     "2\0"
+                     "3\0"
+                     "4\0"
+                     "5\0"
+                     "6\0"
+                     "7 (coarsest)\0");
     }
     if (!state.dialogError.empty()) {
         ImGui::PushTextWrapPos(560);
@@ -215,6 +227,7 @@ void dialog(UiState& state, std::vector<UiAction>& actions) {
         if (a.exportOptions.units)
             a.importOptions.mmPerUnit = core::mmPerUnit(*a.exportOptions.units);
         if (state.importFitMm > 0) a.importOptions.fitMm = state.importFitMm;
+        a.importLevel = state.importLevel;
         actions.push_back(a);
     } else if (cancel) {
         state.dialog = UiState::Dialog::None;
@@ -486,7 +499,7 @@ bool applySharedUiAction(const UiAction& a, Rig& rig, UiState& state, const core
         } else if (n == "import") {
             // Read and placed beside the frame (a scan can take seconds); the frame's poll
             // (Rig::pollBackgroundWork) says when it is in.
-            rig.studio().importMeshInBackground(a.path, a.importOptions);
+            rig.studio().importMeshInBackground(a.path, a.importOptions, a.importLevel);
             spdlog::info("importing {}", a.path.string());
             message.clear();  // the panel's import line (UiState::importing) says it
             state.lastImportPath = a.path.string();

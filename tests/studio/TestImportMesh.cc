@@ -18,6 +18,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -157,6 +158,45 @@ TEST_F(ImportMesh, TheImportedMeshPlacedAsClayGivesBackTheSculpture) {
     const auto again = dir.path / "again.stl";
     core::exportMesh(placed, again);
     EXPECT_NEAR(core::meshVolume(core::importMesh(again)), volume, 0.02 * volume);
+}
+
+// How smooth an imported ball comes out at each level: the surface's distance from the true
+// sphere (mean, standard deviation, range), over the whole mesh at 0.5 mm, against the
+// skeletons it costs and the time to place it (docs/import.md "Placement: the level").
+// VSCULPT_PLACEMENT_TABLES=1 to run.
+TEST(ImportMeshTables, PrintRippleAtEachLevel) {
+    const char* e = std::getenv("VSCULPT_PLACEMENT_TABLES");
+    if (!e || !*e || *e == '0') GTEST_SKIP() << "set VSCULPT_PLACEMENT_TABLES=1";
+    for (double r : {20.0, 50.0}) {
+        const Mesh ball = core::sphereMesh(Vec3(0), r, 96, 192);
+        studio::Studio probe(emptyConfig());
+        const int chosen = core::importLevelFor(probe.session().sculpture().levels(), ball);
+        for (int level = 1; level <= 6; ++level) {
+            studio::Studio s(emptyConfig());
+            const auto t0 = std::chrono::steady_clock::now();
+            s.addSolid(ball, level);
+            const double ms =
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                    .count();
+            const Mesh m = s.session().wholeMesh(0.5);
+            double lo = 1e9, hi = -1e9, sum = 0, squares = 0;
+            for (const Vec3& p : m.positions) {
+                const double d = glm::length(p) - r;
+                lo = std::min(lo, d);
+                hi = std::max(hi, d);
+                sum += d;
+                squares += d * d;
+            }
+            const double n = double(m.positions.size()), mean = sum / n;
+            std::printf(
+                "r %2.0f mm, level %d%s (%.2f mm): mean %+.3f, sd %.3f, range [%+.3f, "
+                "%+.3f] mm; %zu skeletons, %.0f ms\n",
+                r, level, level == chosen ? " (auto)" : "",
+                s.session().sculpture().levels().level(level).spacingMm, mean,
+                std::sqrt(std::max(0.0, squares / n - mean * mean)), lo, hi,
+                s.session().sculpture().counts().total(), ms);
+        }
+    }
 }
 
 TEST_F(ImportMesh, VolumeErrorAtEachLevel) {

@@ -44,6 +44,7 @@ struct UiAction {
     std::filesystem::path path{};
     core::ExportOptions exportOptions{};
     core::ImportOptions importOptions{};
+    int importLevel = 0;  ///< the tool level the import is placed on; 0: core::importLevelFor
 };
 
 /// The UI's own state between frames (which panels are open, the dialogs' fields) and, for
@@ -60,6 +61,7 @@ struct UiState {
     bool dialogOpening = false;  ///< the dialog opens (and takes the keyboard) next frame
     std::string pathField;       ///< the dialog's path text
     double importFitMm = 0;      ///< import dialog: scale to this largest extent (0: as is)
+    int importLevel = 0;         ///< import dialog: the clay's level (0: auto)
     std::string lastImportPath;  ///< proposed again by the next import dialog
     /// Work running beside the frame that can be cancelled (Studio::importStatus), shown
     /// above the project buttons with a "cancel import" button; the window sets it each frame.

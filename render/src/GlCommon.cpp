@@ -114,6 +114,19 @@ GLuint clayProgram() {
     return linkProgram(kVertex, kFragment);
 }
 
+ViewPlanes::ViewPlanes(const glm::mat4& clipFromBox) {
+    // A point p is inside where w + x >= 0, w - x >= 0, ... with (x, y, z, w) = clipFromBox p:
+    // each plane is the last row plus or minus one of the first three.
+    auto row = [&](int r) {
+        return glm::vec4(clipFromBox[0][r], clipFromBox[1][r], clipFromBox[2][r],
+                         clipFromBox[3][r]);
+    };
+    for (int a = 0; a < 3; ++a) {
+        mPlanes[2 * a] = row(3) + row(a);
+        mPlanes[2 * a + 1] = row(3) - row(a);
+    }
+}
+
 void checkGl(const char* what) {
     if (const GLenum err = glGetError(); err != GL_NO_ERROR) {
         char hex[16];

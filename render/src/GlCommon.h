@@ -13,6 +13,12 @@
 #include "vsculpt/render/Shot.h"
 #include "vsculpt/render/Viewer.h"
 
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -43,6 +49,7 @@ struct GpuMesh {
     GLuint vao = 0, vbo = 0, ibo = 0;
     GLsizei count = 0;
     uint64_t version = 0;
+    glm::vec3 lo{0.f}, hi{0.f};  ///< bounds of the positions uploaded (the mesh's frame)
     void release() {
         if (vbo) glDeleteBuffers(1, &vbo);
         if (ibo) glDeleteBuffers(1, &ibo);
@@ -57,6 +64,12 @@ struct GpuMesh {
         }
         std::vector<float> data;
         data.reserve(m.positions.size() * 6);
+        lo = glm::vec3(m.positions.empty() ? 0.f : std::numeric_limits<float>::max());
+        hi = glm::vec3(m.positions.empty() ? 0.f : std::numeric_limits<float>::lowest());
+        for (const core::Vec3& p : m.positions) {
+            lo = glm::min(lo, glm::vec3(p));
+            hi = glm::max(hi, glm::vec3(p));
+        }
         for (size_t i = 0; i < m.positions.size(); ++i) {
             const core::Vec3 n = i < m.normals.size() ? m.normals[i] : core::Vec3(0, 0, 1);
             for (double v : {m.positions[i].x, m.positions[i].y, m.positions[i].z, n.x, n.y, n.z})
@@ -81,6 +94,26 @@ struct GpuMesh {
         glBindVertexArray(vao);
         glDrawElements(mode, count, GL_UNSIGNED_INT, nullptr);
     }
+};
+
+/// The six planes of a view volume (-w <= x, y, z <= w in clip space) in the frame of
+/// `clipFromBox`, to test boxes of that frame against.
+class ViewPlanes {
+  public:
+    explicit ViewPlanes(const glm::mat4& clipFromBox);
+    /// Whether the box [lo, hi] lies wholly outside: all of it beyond one plane (as all eight
+    /// corners would be). Conservative (a box that straddles planes counts as in view), so
+    /// skipping such a box never changes a pixel.
+    bool outside(const glm::vec3& lo, const glm::vec3& hi) const {
+        const glm::vec3 centre = 0.5f * (lo + hi), half = 0.5f * (hi - lo);
+        for (const glm::vec4& p : mPlanes)
+            if (glm::dot(glm::vec3(p), centre) + p.w + glm::dot(glm::abs(glm::vec3(p)), half) < 0)
+                return true;
+        return false;
+    }
+
+  private:
+    glm::vec4 mPlanes[6];
 };
 
 /// The GLX handles of a window's context (NativeGl.cpp); throws RenderError off X11/GLX.

@@ -112,6 +112,7 @@ struct Viewer::Impl {
     EyeView monoEye;
     // Headset eyes (drawEye): a framebuffer for the swapchain texture and its depth.
     GLuint xrFbo = 0, xrDepth = 0;
+    bool culling = true;  // chunks wholly outside an eye's view are not drawn
     // Multisampled eyes (setEyeSamples): drawn here, then resolved into the swapchain image.
     int eyeSamples = 1;
     GLuint msFbo = 0, msColor = 0, msDepth = 0;
@@ -378,7 +379,9 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
                     float(eye.worldPosition.z));
         glUniformMatrix4fv(mImpl->worldFromObjectLoc, 1, GL_FALSE, glm::value_ptr(object));
         glUniform3f(mImpl->tintLoc, 1.f, 1.f, 1.f);
+        const detail::ViewPlanes view(clip * object);
         for (const auto& [k, g] : mImpl->chunks) {
+            if (mImpl->culling && view.outside(g.lo, g.hi)) continue;
             g.draw();
             if (e == 0) {
                 ++stats.chunksDrawn;
@@ -522,7 +525,9 @@ FrameStats Viewer::drawEye(const glm::dmat4& worldFromObject, const ToolDraw& to
                 float(eye.worldPosition.z));
     glUniformMatrix4fv(m.worldFromObjectLoc, 1, GL_FALSE, glm::value_ptr(object));
     glUniform3f(m.tintLoc, 1.f, 1.f, 1.f);
+    const detail::ViewPlanes view(clip * object);
     for (const auto& [k, g] : m.chunks) {
+        if (m.culling && view.outside(g.lo, g.hi)) continue;
         g.draw();
         ++stats.chunksDrawn;
         stats.triangles += size_t(g.count / 3);
@@ -583,6 +588,10 @@ int Viewer::setEyeSamples(int samples) {
 
 int Viewer::eyeSamples() const {
     return mImpl->eyeSamples;
+}
+
+void Viewer::setChunkCulling(bool on) {
+    mImpl->culling = on;
 }
 
 void Viewer::blitToWindow(unsigned colorTexture, int width, int height) {

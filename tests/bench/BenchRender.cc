@@ -86,11 +86,15 @@ BENCHMARK(BM_FrameDraw)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond
 /// One headset frame as the OpenXR loop draws it (app/src/XrWindow.cpp): both eyes through
 /// Viewer::drawEye into swapchain-sized textures (2064 x 2208 per eye, a current headset's
 /// recommended size), then glFinish. The window itself stays small and hidden: a headset frame
-/// never draws into it. range(1): samples a pixel (Viewer::setEyeSamples; 1: off).
+/// never draws into it. range(1): samples a pixel (Viewer::setEyeSamples; 1: off). range(2):
+/// 0 frames the whole sphere, 1 a 20 mm close-up of its front (sculpting detail: most chunks
+/// lie outside the eyes' views and are culled). range(3): 0 turns the culling off
+/// (Viewer::setChunkCulling), to compare.
 void BM_HeadsetFrame(benchmark::State& state) {
     auto viewer = makeViewer(state);
     if (!viewer) return;
     state.counters["samples"] = viewer->setEyeSamples(int(state.range(1)));
+    viewer->setChunkCulling(state.range(3) != 0);
     Scene& sc = sceneWith(state.range(0));
     viewer->syncChunks(*sc.poly);
     constexpr int width = 2064, height = 2208;
@@ -102,8 +106,10 @@ void BM_HeadsetFrame(benchmark::State& state) {
     }
     glBindTexture(GL_TEXTURE_2D, 0);
     render::StereoDisplay display;
-    const glm::dmat4 worldFromHead =
-        render::frameFromFront(glm::dvec3(-40), glm::dvec3(40), double(width) / height, display);
+    const bool close = state.range(2) != 0;
+    const glm::dmat4 worldFromHead = render::frameFromFront(
+        close ? glm::dvec3(-10, -45, -10) : glm::dvec3(-40),
+        close ? glm::dvec3(10, -35, 10) : glm::dvec3(40), double(width) / height, display);
     const auto eyes = render::stereoEyes(worldFromHead, display);
     render::ToolDraw tool;
     tool.worldPos = Vec3(0, -45, 0);
@@ -138,8 +144,9 @@ void BM_HeadsetFrame(benchmark::State& state) {
     state.SetLabel(viewer->rendererName());
 }
 BENCHMARK(BM_HeadsetFrame)
-    ->ArgsProduct({{100000, 1000000}, {1, 4}})
-    ->ArgNames({"triangles", "samples"})
+    ->ArgsProduct({{100000, 1000000}, {1, 4}, {0, 1}, {1}})
+    ->ArgsProduct({{100000, 1000000}, {1}, {0, 1}, {0}})
+    ->ArgNames({"triangles", "samples", "close", "cull"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

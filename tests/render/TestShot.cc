@@ -393,8 +393,9 @@ TEST(Viewer, ViewAreaConfinesDrawingAndPicking) {
 namespace {
 
 /// One headset eye drawn by Viewer::drawEye into a `size` x `size` sRGB texture (the format
-/// runtimes offer first), read back as RGB.
-std::vector<int> eyeImage(Viewer& viewer, const EyeView& eye, int size) {
+/// runtimes offer first), read back as RGB; `stats`, when given, gets the draw's.
+std::vector<int> eyeImage(Viewer& viewer, const EyeView& eye, int size,
+                          FrameStats* stats = nullptr) {
     GLuint texture = 0;
     glGenTextures(1, &texture);
     glBindTexture(GL_TEXTURE_2D, texture);
@@ -402,7 +403,8 @@ std::vector<int> eyeImage(Viewer& viewer, const EyeView& eye, int size) {
     glBindTexture(GL_TEXTURE_2D, 0);
     ToolDraw tool;
     tool.visible = false;
-    viewer.drawEye(glm::dmat4(1.0), tool, eye, texture, size, size);
+    const FrameStats drawn = viewer.drawEye(glm::dmat4(1.0), tool, eye, texture, size, size);
+    if (stats) *stats = drawn;
     std::vector<uint8_t> rgba(size_t(size) * size * 4);
     glBindTexture(GL_TEXTURE_2D, texture);
     glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
@@ -488,4 +490,40 @@ TEST(Viewer, HeadsetEyesAreAntialiasedWhenAsked) {
     // And back off: the aliased picture again, bit for bit.
     EXPECT_EQ(viewer.setEyeSamples(1), 1);
     EXPECT_EQ(eyeImage(viewer, eye, n), aliased);
+}
+
+// Chunks wholly outside an eye's view are not drawn: zoomed in on one end of the bar, the eye
+// draws fewer chunks and the very same picture as with every chunk drawn; turned away from the
+// sculpture, it draws none.
+TEST(Viewer, ChunksOutsideAnEyesViewAreSkippedAndNoPixelChanges) {
+    core::SculptConfig cfg;
+    cfg.sphereRadiusMm = 30;
+    cfg.polygonizer.gridN = 64;
+    core::Sculpture s(cfg);
+    core::applyStroke(s, core::ToolOp::Add, 5,
+                      std::vector<core::Vec3>{core::Vec3(-45, -10, 0), core::Vec3(45, -10, 10)});
+    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)), 0.125);
+    poly.rebuildAll();
+    Viewer viewer(320, 240, "test", false);
+    const size_t chunks = viewer.syncChunks(poly);
+    StereoDisplay display;
+    // The bar's right end fills the eye; most of the sculpture lies beyond its edges.
+    const EyeView close = stereoEyes(
+        frameFromFront(glm::dvec3(35, -25, -5), glm::dvec3(55, -5, 15), 1.0, display), display)[0];
+    FrameStats culled, all;
+    const std::vector<int> picture = eyeImage(viewer, close, 128, &culled);
+    viewer.setChunkCulling(false);
+    EXPECT_EQ(eyeImage(viewer, close, 128, &all), picture);
+    EXPECT_EQ(all.chunksDrawn, chunks);
+    std::printf("close-up: %zu of %zu chunks drawn\n", culled.chunksDrawn, chunks);
+    EXPECT_LT(culled.chunksDrawn, chunks / 2);
+    EXPECT_GT(culled.chunksDrawn, 0u);
+    viewer.setChunkCulling(true);
+    // Turned half round: the sculpture is behind the eye.
+    EyeView away = close;
+    away.viewFromWorld =
+        glm::rotate(glm::dmat4(1.0), glm::pi<double>(), glm::dvec3(0, 1, 0)) * close.viewFromWorld;
+    FrameStats none;
+    eyeImage(viewer, away, 64, &none);
+    EXPECT_EQ(none.chunksDrawn, 0u);
 }

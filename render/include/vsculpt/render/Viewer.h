@@ -124,6 +124,10 @@ class Viewer {
     /// Clamped to what the GL offers (GL_MAX_SAMPLES); returns the number used.
     int setEyeSamples(int samples);
     int eyeSamples() const;
+    /// Chunks whose bounds lie wholly outside an eye's view are skipped (on by default; it
+    /// changes no pixel, FrameStats counts what was drawn). Off: every chunk is drawn, for
+    /// comparisons.
+    void setChunkCulling(bool on);
     /// Copies a `width` x `height` texture into the window, scaled to fit (the headset's
     /// mirror on the desktop).
     void blitToWindow(unsigned colorTexture, int width, int height);

@@ -54,6 +54,7 @@ void ImportInBackground::placeAgain(std::unique_ptr<core::Sculpture> copy) {
 }
 
 void ImportInBackground::finish() {
+    mStop.store(true, std::memory_order_relaxed);
     std::lock_guard lock(mMutex);
     mFinish = true;
     mChanged.notify_all();
@@ -89,9 +90,11 @@ void ImportInBackground::run(core::ImportOptions options, int level) {
                 const int use = level != 0 ? level : core::importLevelFor(copy->levels(), mesh);
                 level = use;  // placed again on the same level
                 core::SolidPlacement placed;
-                arena.execute([&] { placed = core::placeSolid(*copy, mesh, use); });
+                arena.execute([&] { placed = core::placeSolid(*copy, mesh, use, &mStop); });
                 mResult.level = placed.level;
                 mResult.changes = std::move(placed.changes);
+            } catch (const core::PlacementStopped&) {
+                // finish() came: nobody waits for this result.
             } catch (const std::exception& e) {
                 fail(e);
             }

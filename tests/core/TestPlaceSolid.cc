@@ -9,10 +9,13 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <thread>
 
 namespace vsculpt::core {
 namespace {
@@ -115,6 +118,36 @@ TEST(PlaceSolid, UndoRestoresTheStoreAndReplayReproducesIt) {
         EXPECT_EQ(replayed.changes[i].before, placed.changes[i].before);
     reapplyChanges(s, placed.changes);
     EXPECT_EQ(storeContents(s), after);
+}
+
+// A cancelled import raises the stop flag from another thread: the placement ends early and
+// changes nothing, or (raised too late) it is whole, as without the flag. Never half of it.
+TEST(PlaceSolid, ARaisedStopEndsThePlacementAndChangesNothing) {
+    Sculpture s(config(PlacementMode::Free));
+    const auto start = storeContents(s);
+    const Mesh box = boxMesh(Vec3(20, -15, -15), Vec3(70, 15, 15));
+    std::atomic<bool> stop{true};
+    EXPECT_THROW(placeSolid(s, box, 0, &stop), PlacementStopped);
+    EXPECT_EQ(storeContents(s), start);
+
+    Sculpture whole(config(PlacementMode::Free));
+    placeSolid(whole, box, 1);
+    for (int delayUs : {0, 2000, 20000}) {
+        Sculpture t(config(PlacementMode::Free));
+        stop = false;
+        std::thread raise([&] {
+            std::this_thread::sleep_for(std::chrono::microseconds(delayUs));
+            stop = true;
+        });
+        bool stopped = false;
+        try {
+            placeSolid(t, box, 1, &stop);
+        } catch (const PlacementStopped&) {
+            stopped = true;
+        }
+        raise.join();
+        EXPECT_EQ(storeContents(t), stopped ? start : storeContents(whole)) << delayUs << " us";
+    }
 }
 
 TEST(PlaceSolid, ASolidInsideClayAddsNothingAndAgainAddsNothing) {

@@ -15,7 +15,9 @@
 #include "vsculpt/core/Mesh.h"
 #include "vsculpt/core/PlaceStroke.h"
 
+#include <atomic>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 namespace vsculpt::core {
@@ -57,11 +59,20 @@ struct SolidPlacement {
     EditResult edit;                      ///< for the polygonizer's incremental update
 };
 
+/// What placeSolid throws when its `stop` flag was raised; the sculpture is unchanged then.
+class PlacementStopped : public std::runtime_error {
+  public:
+    PlacementStopped() : std::runtime_error("placement stopped") {}
+};
+
 /// Adds the solid to the sculpture (one edit). @param level 1..7, or 0 for solidLevelFor().
 /// Throws std::invalid_argument for a bad mesh (validateSolidMesh), a level outside 0..7, or
 /// a solid that would need more than 2^25 lattice vertices at that level (choose a larger
-/// one); the sculpture is unchanged then.
-SolidPlacement placeSolid(Sculpture& sculpture, const Mesh& solid, int level = 0);
+/// one); the sculpture is unchanged then. @param stop when given and raised (by another
+/// thread: a cancelled import), the placement ends early with PlacementStopped: the signed
+/// distance checks it as it goes (OpenVDB's interrupter), the decisions once per slab.
+SolidPlacement placeSolid(Sculpture& sculpture, const Mesh& solid, int level = 0,
+                          const std::atomic<bool>* stop = nullptr);
 
 /// Journal replay: sets each vertex to its recorded `after` state (the `before` states are
 /// ignored) and returns the changes with the sculpture's present states as `before`. Changes

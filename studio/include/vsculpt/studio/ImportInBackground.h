@@ -68,8 +68,9 @@ class ImportInBackground {
     /// Once done(): places the mesh, already read, again on `copy` (the sculpture changed
     /// while the first placement ran); done() again when that is through.
     void placeAgain(std::unique_ptr<core::Sculpture> copy);
-    /// Lets the thread go: it skips what is left (a placement after reading), frees the mesh
-    /// and ends. Returns at once; ended() tells when the thread is through.
+    /// Lets the thread go: it stops a placement under way (core::placeSolid's stop flag, within
+    /// a slab of lattice vertices) or skips one after reading, frees the mesh and ends.
+    /// Returns at once; ended() tells when the thread is through. Reading is not interrupted.
     void finish();
     bool ended() const { return mEnded.load(std::memory_order_acquire); }
 
@@ -85,6 +86,7 @@ class ImportInBackground {
     Result mResult;                          // the thread's until done(), then the owner's
     std::atomic<Phase> mPhase{Phase::Reading};
     std::atomic<bool> mEnded{false};
+    std::atomic<bool> mStop{false};  // finish() asks a placement under way to stop
     std::thread mThread;
 };
 

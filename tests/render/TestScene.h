@@ -8,20 +8,31 @@
 #include "vsculpt/core/Polygonizer.h"
 #include "vsculpt/core/Sculpture.h"
 
+#include <memory>
 #include <vector>
 
 namespace vsculpt::test {
 
-inline core::Mesh sculptureMesh(int gridN = 64) {
+/// The sculpture with its polygonizer kept: what a Viewer syncs its chunks from.
+struct SculptureView {
     core::SculptConfig cfg;
-    cfg.sphereRadiusMm = 30;
-    cfg.polygonizer.gridN = gridN;
-    core::Sculpture s(cfg);
-    core::applyStroke(s, core::ToolOp::Add, 5,
-                      std::vector<core::Vec3>{core::Vec3(-45, -10, 0), core::Vec3(45, -10, 10)});
-    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)), 0.125);
-    poly.rebuildAll();
-    return poly.mesh();
+    std::unique_ptr<core::Sculpture> sculpture;
+    std::unique_ptr<core::Polygonizer> poly;
+    explicit SculptureView(int gridN = 64) {
+        cfg.sphereRadiusMm = 30;
+        cfg.polygonizer.gridN = gridN;
+        sculpture = std::make_unique<core::Sculpture>(cfg);
+        core::applyStroke(
+            *sculpture, core::ToolOp::Add, 5,
+            std::vector<core::Vec3>{core::Vec3(-45, -10, 0), core::Vec3(45, -10, 10)});
+        poly = std::make_unique<core::Polygonizer>(
+            *sculpture, core::zoomRegion(cfg, sculpture->levels(), 1, core::Vec3(0)), 0.125);
+        poly->rebuildAll();
+    }
+};
+
+inline core::Mesh sculptureMesh(int gridN = 64) {
+    return SculptureView(gridN).poly->mesh();
 }
 
 }  // namespace vsculpt::test

@@ -423,14 +423,8 @@ std::vector<int> eyeImage(Viewer& viewer, const EyeView& eye, int size,
 // much closer to the same eye drawn at 4 x 4 the resolution and averaged (the picture an ideal
 // antialiasing gives) than the aliased picture does, and it covers the same area.
 TEST(Viewer, HeadsetEyesAreAntialiasedWhenAsked) {
-    core::SculptConfig cfg;
-    cfg.sphereRadiusMm = 30;
-    cfg.polygonizer.gridN = 32;
-    core::Sculpture s(cfg);
-    core::applyStroke(s, core::ToolOp::Add, 5,
-                      std::vector<core::Vec3>{core::Vec3(-45, -10, 0), core::Vec3(45, -10, 10)});
-    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)), 0.125);
-    poly.rebuildAll();
+    const test::SculptureView scene(32);
+    const core::Polygonizer& poly = *scene.poly;
     Viewer viewer(320, 240, "test", false);
     viewer.syncChunks(poly);
     StereoDisplay display;
@@ -496,16 +490,9 @@ TEST(Viewer, HeadsetEyesAreAntialiasedWhenAsked) {
 // draws fewer chunks and the very same picture as with every chunk drawn; turned away from the
 // sculpture, it draws none.
 TEST(Viewer, ChunksOutsideAnEyesViewAreSkippedAndNoPixelChanges) {
-    core::SculptConfig cfg;
-    cfg.sphereRadiusMm = 30;
-    cfg.polygonizer.gridN = 64;
-    core::Sculpture s(cfg);
-    core::applyStroke(s, core::ToolOp::Add, 5,
-                      std::vector<core::Vec3>{core::Vec3(-45, -10, 0), core::Vec3(45, -10, 10)});
-    core::Polygonizer poly(s, core::zoomRegion(cfg, s.levels(), 1, core::Vec3(0)), 0.125);
-    poly.rebuildAll();
+    const test::SculptureView scene(64);
     Viewer viewer(320, 240, "test", false);
-    const size_t chunks = viewer.syncChunks(poly);
+    const size_t chunks = viewer.syncChunks(*scene.poly);
     StereoDisplay display;
     // The bar's right end fills the eye; most of the sculpture lies beyond its edges.
     const EyeView close = stereoEyes(

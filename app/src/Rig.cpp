@@ -279,7 +279,7 @@ std::string Rig::save() {
 std::string Rig::saveNow() {
     // The studio is about to be replaced: an import asked for lands in it, and the snapshot
     // is written before it goes, and said.
-    mStudio->pollImport(true);
+    pollImport(true);
     pollSave(true);
     mStudio->save();
     return "saved " + mStudio->session().projectDir()->string();
@@ -289,12 +289,17 @@ std::optional<std::string> Rig::pollSave(bool wait) {
     return mStudio->pollSave(wait);  // logged by the session
 }
 
-std::optional<std::string> Rig::pollBackgroundWork(bool wait) {
-    // The import first: once in, the save and export that follow hold it. (The save and the
-    // export log their own outcomes.)
+std::optional<std::string> Rig::pollImport(bool wait) {
     bool failed = false;
     std::optional<std::string> said = mStudio->pollImport(wait, &failed);
     if (said) failed ? spdlog::warn("{}", *said) : spdlog::info("{}", *said);
+    return said;
+}
+
+std::optional<std::string> Rig::pollBackgroundWork(bool wait) {
+    // The import first: once in, the save and export that follow hold it. (The save and the
+    // export log their own outcomes.)
+    std::optional<std::string> said = pollImport(wait);
     for (std::optional<std::string> done : {pollSave(wait), pollExport(wait)})
         if (done) said = said ? *said + "; " + *done : *done;
     return said;
@@ -318,6 +323,7 @@ std::string Rig::saveAs(const std::filesystem::path& dir) {
         throw core::ProjectError(dir.string() + ": save as needs a new or empty folder");
     if (const auto& from = mStudio->session().projectDir()) {
         // A snapshot absorbs the journal; the copy is then the snapshot and the sketch.
+        pollImport(true);
         mStudio->save();
         std::filesystem::create_directories(dir);
         for (const char* name : {"snapshot.vsnap", "sketch.json"})

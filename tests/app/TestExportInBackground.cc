@@ -183,3 +183,30 @@ TEST_F(ExportInBackground, TheSaveKeySavesBesideTheFrame) {
     EXPECT_EQ(core::readSnapshot(core::snapshotPath(project)).lastSequence, 2u);
     EXPECT_TRUE(core::readJournal(core::journalPath(project)).records.empty());
 }
+
+// An import asked for in the window (it runs beside the frame, ImportInBackground.h) lands in
+// the project before "save as" copies it and before "new project" replaces the studio, whether
+// it is still running or done and not yet polled: never dropped with the studio.
+TEST_F(ExportInBackground, AnImportUnderWayLandsBeforeTheProjectIsSavedAsOrLeft) {
+    const std::filesystem::path part = dir / "part.stl";
+    {
+        studio::Session s(test::smallConfig(0));
+        s.setSize(5);
+        s.stroke({Vec3(40, 0, 0), Vec3(60, 0, 0)}, false);
+        core::exportMesh(s.wholeMesh(1.5), part);
+    }
+    const std::filesystem::path project = dir / "project", copy = dir / "copy";
+    app::RigOptions options;
+    options.project = app::ProjectChoice::Given;
+    options.projectDir = project;
+    app::Rig rig(smallSphere(), options);
+    rig.studio().importMeshInBackground(part);
+    rig.saveAs(copy);  // continues in the copy
+    EXPECT_EQ(rig.studio().stepCount(), 1u);
+    EXPECT_EQ(core::readSnapshot(core::snapshotPath(copy)).lastSequence, 1u);
+    rig.studio().importMeshInBackground(part);
+    rig.newProject();
+    // The copy's journal or snapshot holds the second import too.
+    auto reopened = studio::Studio::openProject(copy, smallSphere(), studio::ProjectMode::ReadOnly);
+    EXPECT_EQ(reopened->stepCount(), 2u);
+}

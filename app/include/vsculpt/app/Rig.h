@@ -156,6 +156,9 @@ class Rig {
   private:
     /// A snapshot written before returning (the studio is about to be replaced): "saved DIR".
     std::string saveNow();
+    /// Studio::pollImport, its outcome logged. `wait` before the studio is saved elsewhere or
+    /// replaced, so the import asked for lands in it and is not dropped with it.
+    std::optional<std::string> pollImport(bool wait);
     void openStudio(const std::filesystem::path& dir);
     void rebuildInput();
 

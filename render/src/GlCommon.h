@@ -66,11 +66,9 @@ struct GpuMesh {
         data.reserve(m.positions.size() * 6);
         lo = glm::vec3(m.positions.empty() ? 0.f : std::numeric_limits<float>::max());
         hi = glm::vec3(m.positions.empty() ? 0.f : std::numeric_limits<float>::lowest());
-        for (const core::Vec3& p : m.positions) {
-            lo = glm::min(lo, glm::vec3(p));
-            hi = glm::max(hi, glm::vec3(p));
-        }
         for (size_t i = 0; i < m.positions.size(); ++i) {
+            lo = glm::min(lo, glm::vec3(m.positions[i]));
+            hi = glm::max(hi, glm::vec3(m.positions[i]));
             const core::Vec3 n = i < m.normals.size() ? m.normals[i] : core::Vec3(0, 0, 1);
             for (double v : {m.positions[i].x, m.positions[i].y, m.positions[i].z, n.x, n.y, n.z})
                 data.push_back(float(v));

@@ -429,11 +429,10 @@ std::optional<std::string> Studio::pollImport(bool wait, bool* failed) {
             // Sculpted meanwhile: the copy's decisions may not hold here. Place again.
             again =
                 r.error.empty() && r.placedOnWrites != mSession->sculpture().store().writeCount();
-            if (again) {
-            } else if (!r.error.empty()) {
+            if (!r.error.empty()) {
                 bad = true;
                 said = "import failed: " + r.error;
-            } else {
+            } else if (!again) {
                 try {
                     const int used =
                         sculpt([&](Session& s) { return s.addPlacedSolid(r.level, r.changes); });

@@ -4,6 +4,7 @@
 #include "KeyNames.h"
 #include "vsculpt/app/CliChecks.h"
 #include "vsculpt/app/Rig.h"
+#include "vsculpt/app/SculptAction.h"
 #include "vsculpt/app/XrWindow.h"
 #include "vsculpt/core/DurationHistogram.h"
 #include "vsculpt/core/Project.h"
@@ -170,42 +171,19 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         auto doAction = [&](const std::string& a) {
             const Vec3 toolObject = glm::inverse(worldFromObject) * glm::dvec4(toolWorld, 1);
             try {
+                // The palette's actions, as the headset's panel applies them.
+                if (applySculptAction(a, studio, ui, lastSculptPoint)) return;
                 if (a == "quit")
                     running = false;
                 else if (a == "help")
                     uiState.help = !uiState.help;
-                else if (a == "tool_add" || a == "tool_carve" || a == "tool_smooth" ||
-                         a == "tool_select")
-                    studio.setTool(a == "tool_add"      ? ToolKind::Add
-                                   : a == "tool_carve"  ? ToolKind::Carve
-                                   : a == "tool_smooth" ? ToolKind::Smooth
-                                                        : ToolKind::Select);
-                else if (a == "cycle_mirror")
-                    ui.cycleMirror();
-                else if (a.rfind("mirror_", 0) == 0)
-                    studio.setMirror(a == "mirror_x"   ? core::MirrorAxis::X
-                                     : a == "mirror_y" ? core::MirrorAxis::Y
-                                     : a == "mirror_z" ? core::MirrorAxis::Z
-                                                       : core::MirrorAxis::None);
-                else if (a.rfind("zoom_", 0) == 0 && a.size() == 6)
-                    ui.jumpToZoom(a.back() - '0', lastSculptPoint);
-                else if (a == "cycle_tool")
-                    ui.cycleTool();
                 else if (a == "step")
                     ui.step(session.tool() == ToolKind::Select ? zoomTarget(toolObject)
                                                                : toolObject);
-                else if (a.rfind("size_", 0) == 0)
-                    ui.jumpToSize(a.back() - '0');
                 else if (a == "zoom_in")
                     ui.jumpToZoom(std::min(5, session.zoom() + 1), zoomTarget(toolObject));
                 else if (a == "zoom_out")
                     ui.jumpToZoom(std::max(1, session.zoom() - 1), toolObject);
-                else if (a == "overview")
-                    ui.overview();
-                else if (a == "undo")
-                    studio.undo();
-                else if (a == "redo")
-                    studio.redo();
                 else if (Rig::handles(a)) {
                     message = rig->projectAction(a);
                     spdlog::info("{}", message);
@@ -292,18 +270,8 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
             const auto u0 = std::chrono::steady_clock::now();
             const glm::ivec2 uiSize = viewer->eyeImageSize(mode);
             uiLayer->beginFrame(uiSize.x, uiSize.y, std::max(1e-3, frameMs / 1000));
-            SculptUiView view;
-            view.tool = session.tool();
-            view.mirror = session.mirror();
-            view.size = session.size();
-            view.sizeMm = level.diameterMm;
-            for (int s : ui.offeredSizes())
-                view.offeredSizes.emplace_back(s, session.sculpture().levels().level(s).diameterMm);
-            view.zoom = session.zoom();
-            view.skeletons = session.sculpture().counts().total();
+            SculptUiView view = sculptUiViewOf(session, ui);
             view.frameMs = frameMs;
-            view.project = session.projectDir() ? session.projectDir()->filename().string()
-                                                : "no project (scratch)";
             view.message = message;
             view.bindings = &cfg.interaction.bindings;
             view.marginPx = float(

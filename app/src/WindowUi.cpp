@@ -340,43 +340,117 @@ std::vector<std::pair<std::string, std::string>> helpLines(
     return lines;
 }
 
+namespace {
+
+// In ToolKind's order.
+constexpr const char* kToolNames[4] = {"add", "carve", "smooth", "select"};
+const ImVec4 kToolColour[4] = {ImVec4(0.45f, 1.0f, 0.5f, 1), ImVec4(1.0f, 0.4f, 0.35f, 1),
+                               ImVec4(1.0f, 0.8f, 0.4f, 1), ImVec4(0.45f, 0.65f, 1.0f, 1)};
+
+/// The palette's rows (tool, undo and redo; mirror; the zoom's sizes; zoom), in the current
+/// window: the window's palette and the headset's panel show the same buttons.
+void paletteRows(UiState& state, const SculptUiView& v, std::vector<UiAction>& actions) {
+    using ui::button;
+    const int tool = int(v.tool);
+    // The labels' column, in the font's size: the buttons line up at any UI scale.
+    const float column = 4.6f * ImGui::GetFontSize();
+    ImGui::AlignTextToFramePadding();  // level with the buttons
+    ImGui::Text("tool");
+    for (int t = 0; t < 4; ++t) {
+        ImGui::SameLine(t == 0 ? column : 0);
+        if (button(state, kToolNames[t], t == tool, ""))
+            actions.push_back({std::string("tool_") + kToolNames[t]});
+    }
+    ImGui::SameLine();
+    ImGui::TextUnformatted("   ");
+    ImGui::SameLine();
+    if (button(state, "undo" + ui::keyOf(v.bindings, "undo"), false, "undo"))
+        actions.push_back({"undo"});
+    ImGui::SameLine();
+    if (button(state, "redo" + ui::keyOf(v.bindings, "redo"), false, "redo"))
+        actions.push_back({"redo"});
+    ImGui::AlignTextToFramePadding();
+    ImGui::Text("mirror");
+    for (core::MirrorAxis m :
+         {core::MirrorAxis::None, core::MirrorAxis::X, core::MirrorAxis::Y, core::MirrorAxis::Z}) {
+        ImGui::SameLine(m == core::MirrorAxis::None ? column : 0);
+        const std::string name = core::toString(m);
+        if (button(state, name, m == v.mirror, "mirror " + name))
+            actions.push_back({"mirror_" + name});
+    }
+    ImGui::AlignTextToFramePadding();
+    ImGui::Text("size");
+    for (size_t i = 0; i < v.offeredSizes.size(); ++i) {
+        const auto& [level, mm] = v.offeredSizes[i];
+        ImGui::SameLine(i == 0 ? column : 0);
+        char label[48];
+        std::snprintf(label, sizeof label, "%d: %.1f mm", level, mm);
+        if (button(state, label, level == v.size, "size " + std::to_string(level)))
+            actions.push_back({"size_" + std::to_string(level)});
+    }
+    ImGui::AlignTextToFramePadding();
+    ImGui::Text("zoom");
+    for (int z = 1; z <= 5; ++z) {
+        ImGui::SameLine(z == 1 ? column : 0);
+        if (button(state, std::to_string(z) + (z == 1 ? " overview" : ""), z == v.zoom,
+                   "zoom " + std::to_string(z)))
+            actions.push_back({"zoom_" + std::to_string(z)});
+    }
+}
+
+}  // namespace
+
+SculptUiView sculptUiViewOf(const studio::Session& session,
+                            const studio::Interaction& interaction) {
+    SculptUiView view;
+    const core::ToolLevels& levels = session.sculpture().levels();
+    view.tool = session.tool();
+    view.mirror = session.mirror();
+    view.size = session.size();
+    view.sizeMm = levels.level(session.size()).diameterMm;
+    for (int s : interaction.offeredSizes())
+        view.offeredSizes.emplace_back(s, levels.level(s).diameterMm);
+    view.zoom = session.zoom();
+    view.skeletons = session.sculpture().counts().total();
+    view.project =
+        session.projectDir() ? session.projectDir()->filename().string() : "no project (scratch)";
+    return view;
+}
+
 std::vector<UiAction> sculptUi(UiState& state, const SculptUiView& v, core::SculptConfig& cfg,
                                int width, int height) {
     using ui::button;
     ui::beginUi(state);
     std::vector<UiAction> actions;
-    // In ToolKind's order.
-    const char* toolNames[4] = {"add", "carve", "smooth", "select"};
     const int tool = int(v.tool);
     // The status panel, top left.
     const float left = 8 + v.marginPx;
     ImGui::SetNextWindowPos(ImVec2(left, 8), ImGuiCond_Always);
     if (ImGui::Begin("##status", nullptr, ui::kPanel)) {
         ui::rememberWindow(state, "status");
-        const ImVec4 toolColour[4] = {ImVec4(0.45f, 1.0f, 0.5f, 1), ImVec4(1.0f, 0.4f, 0.35f, 1),
-                                      ImVec4(1.0f, 0.8f, 0.4f, 1), ImVec4(0.45f, 0.65f, 1.0f, 1)};
+        const float values = 7 * ImGui::GetFontSize();  // the column at any UI scale
         ImGui::Text("tool");
-        ImGui::SameLine(90);
-        ImGui::TextColored(toolColour[tool], "%s", toolNames[tool]);
+        ImGui::SameLine(values);
+        ImGui::TextColored(kToolColour[tool], "%s", kToolNames[tool]);
         ImGui::Text("mirror");
-        ImGui::SameLine(90);
+        ImGui::SameLine(values);
         ImGui::Text("%s", v.mirror == core::MirrorAxis::None
                               ? "off"
                               : (std::string(core::toString(v.mirror)) + " = 0 plane").c_str());
         ImGui::Text("size");
-        ImGui::SameLine(90);
+        ImGui::SameLine(values);
         ImGui::Text("%d  (%.1f mm)", v.size, v.sizeMm);
         ImGui::Text("zoom");
-        ImGui::SameLine(90);
+        ImGui::SameLine(values);
         ImGui::Text("%d of 5", v.zoom);
         ImGui::Text("skeletons");
-        ImGui::SameLine(90);
+        ImGui::SameLine(values);
         ImGui::Text("%zu", v.skeletons);
         ImGui::Text("frame");
-        ImGui::SameLine(90);
+        ImGui::SameLine(values);
         ImGui::Text("%.1f ms", v.frameMs);
         ImGui::Text("project");
-        ImGui::SameLine(90);
+        ImGui::SameLine(values);
         ImGui::TextUnformatted(v.project.c_str());
         if (!v.message.empty()) {
             ImGui::PushTextWrapPos(420);
@@ -391,48 +465,57 @@ std::vector<UiAction> sculptUi(UiState& state, const SculptUiView& v, core::Scul
     ImGui::SetNextWindowPos(ImVec2(left, height - 8.f), ImGuiCond_Always, ImVec2(0, 1));
     if (ImGui::Begin("##palette", nullptr, ui::kPanel)) {
         ui::rememberWindow(state, "palette");
-        ImGui::Text("tool");
-        for (int t = 0; t < 4; ++t) {
-            ImGui::SameLine(t == 0 ? 50 : 0);
-            if (button(state, toolNames[t], t == tool, ""))
-                actions.push_back({std::string("tool_") + toolNames[t]});
-        }
-        ImGui::SameLine();
-        ImGui::TextUnformatted("   ");
-        ImGui::SameLine();
-        if (button(state, "undo" + ui::keyOf(v.bindings, "undo"), false, "undo"))
-            actions.push_back({"undo"});
-        ImGui::SameLine();
-        if (button(state, "redo" + ui::keyOf(v.bindings, "redo"), false, "redo"))
-            actions.push_back({"redo"});
-        ImGui::Text("mirror");
-        for (core::MirrorAxis m : {core::MirrorAxis::None, core::MirrorAxis::X, core::MirrorAxis::Y,
-                                   core::MirrorAxis::Z}) {
-            ImGui::SameLine(m == core::MirrorAxis::None ? 50 : 0);
-            const std::string name = core::toString(m);
-            if (button(state, name, m == v.mirror, "mirror " + name))
-                actions.push_back({"mirror_" + name});
-        }
-        ImGui::Text("size");
-        for (size_t i = 0; i < v.offeredSizes.size(); ++i) {
-            const auto& [level, mm] = v.offeredSizes[i];
-            ImGui::SameLine(i == 0 ? 50 : 0);
-            char label[48];
-            std::snprintf(label, sizeof label, "%d: %.1f mm", level, mm);
-            if (button(state, label, level == v.size, "size " + std::to_string(level)))
-                actions.push_back({"size_" + std::to_string(level)});
-        }
-        ImGui::Text("zoom");
-        for (int z = 1; z <= 5; ++z) {
-            ImGui::SameLine(z == 1 ? 50 : 0);
-            if (button(state, std::to_string(z) + (z == 1 ? " overview" : ""), z == v.zoom,
-                       "zoom " + std::to_string(z)))
-                actions.push_back({"zoom_" + std::to_string(z)});
-        }
+        paletteRows(state, v, actions);
     }
     ImGui::End();
     // The shared panels sit at the right edge: the same margin there.
     ui::sharedPanels(state, v.bindings, false, cfg, actions, width - int(v.marginPx), height);
+    return actions;
+}
+
+std::vector<UiAction> headsetUi(UiState& state, const SculptUiView& v, const std::string& hands,
+                                int width, int height) {
+    using ui::button;
+    ui::beginUi(state);
+    std::vector<UiAction> actions;
+    ImGui::SetNextWindowPos(ImVec2(0, 0), ImGuiCond_Always);
+    ImGui::SetNextWindowSize(ImVec2(float(width), float(height)), ImGuiCond_Always);
+    // Buttons a controller's ray can hit from arm's length: about twice the window's padding.
+    const float font = ImGui::GetFontSize();
+    ImGui::PushStyleVar(ImGuiStyleVar_FramePadding, ImVec2(0.7f * font, 0.45f * font));
+    ImGui::PushStyleVar(ImGuiStyleVar_ItemSpacing, ImVec2(0.45f * font, 0.45f * font));
+    if (ImGui::Begin("##headset", nullptr,
+                     ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
+                         ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing |
+                         ImGuiWindowFlags_NoNav)) {
+        ui::rememberWindow(state, "headset");
+        const int tool = int(v.tool);
+        ImGui::TextColored(kToolColour[tool], "%s", kToolNames[tool]);
+        ImGui::SameLine();
+        ImGui::Text(" size %d (%.1f mm)   zoom %d   mirror %s", v.size, v.sizeMm, v.zoom,
+                    core::toString(v.mirror));
+        ImGui::Text("%zu skeleton%s   %.1f ms   %s", v.skeletons, v.skeletons == 1 ? "" : "s",
+                    v.frameMs, hands.c_str());
+        paletteRows(state, v, actions);
+        ImGui::Spacing();
+        if (button(state, "save", false, "save")) actions.push_back({"save"});
+        ImGui::SameLine();
+        if (button(state, "export .glb", false, "export")) actions.push_back({"export"});
+        ImGui::SameLine();
+        ImGui::AlignTextToFramePadding();
+        ImGui::TextUnformatted(v.project.c_str());
+        if (!v.message.empty()) {
+            ImGui::PushTextWrapPos(float(width) - font);
+            ImGui::TextColored(ImVec4(1, 0.85f, 0.4f, 1), "%s", v.message.c_str());
+            ImGui::PopTextWrapPos();
+        }
+        // Where the pen points: a controller has no cursor of its own.
+        if (ImGui::IsMousePosValid())
+            ImGui::GetForegroundDrawList()->AddCircleFilled(ImGui::GetIO().MousePos, 0.35f * font,
+                                                            IM_COL32(255, 255, 255, 230));
+    }
+    ImGui::End();
+    ImGui::PopStyleVar(2);
     return actions;
 }
 

@@ -2,6 +2,7 @@
 #include "vsculpt/app/XrInput.h"
 
 #include "vsculpt/app/DeviceInput.h"
+#include "vsculpt/app/SculptAction.h"
 
 #include "vsculpt/devices/XrBindings.h"
 #include "vsculpt/studio/Session.h"
@@ -69,6 +70,14 @@ std::vector<uint8_t> xrHandsReport(const XrHands& h) {
         for (int i = 0; i < 4; ++i)
             out.push_back(uint8_t(bits >> (8 * i)));
     }
+    if (!h.panelAction.empty()) {
+        // Names are short ASCII words (SculptAction.h); a longer one is a caller's bug.
+        if (h.panelAction.size() > 255)
+            throw std::logic_error("xrHandsReport: panel action name of " +
+                                   std::to_string(h.panelAction.size()) + " bytes");
+        out.push_back(uint8_t(h.panelAction.size()));
+        out.insert(out.end(), h.panelAction.begin(), h.panelAction.end());
+    }
     return out;
 }
 
@@ -77,7 +86,10 @@ std::optional<XrHands> parseXrHandsReport(std::span<const uint8_t> b) {
     const uint8_t f = b[0];
     const size_t poses = ((f & 1) ? 1 : 0) + ((f & 2) ? 1 : 0);
     const size_t sticks = (f & 0x80) ? 12 : 0;
-    if (b.size() != 5 + poses * kPoseBytes + sticks) return std::nullopt;
+    const size_t fixed = 5 + poses * kPoseBytes + sticks;
+    // After the thumbsticks, optionally the panel's action: a length byte and its name.
+    const size_t action = b.size() > fixed && sticks ? b[fixed] : 0;
+    if (b.size() != fixed + (action ? 1 + action : 0)) return std::nullopt;
     XrHands h;
     h.grip = f & 4;
     h.undo = f & 8;
@@ -108,6 +120,10 @@ std::optional<XrHands> parseXrHandsReport(std::span<const uint8_t> b) {
         h.penStickX = f32();
         h.penStickY = f32();
         h.mouseStickY = f32();
+    }
+    if (action) {
+        h.panelAction.assign(b.begin() + std::ptrdiff_t(fixed + 1), b.end());
+        if (!isSculptAction(h.panelAction)) return std::nullopt;
     }
     return h;
 }
@@ -174,6 +190,15 @@ void XrInput::handle(const XrHands& h) {
                 session.objectPose().inverse().apply(mTool.value_or(core::Vec3(0.0))));
         });
     if (h.overview) guarded("overview", [&] { mInteraction.overview(); });
+    // A button clicked on the headset's panel: what the window's palette does, zooming at the
+    // tool as the thumbstick does.
+    if (!h.panelAction.empty())
+        guarded(h.panelAction.c_str(), [&] {
+            const core::Vec3 at =
+                session.objectPose().inverse().apply(mTool.value_or(core::Vec3(0.0)));
+            if (!applySculptAction(h.panelAction, mStudio, mInteraction, at))
+                spdlog::warn("the panel's action '{}' is not a sculpting action", h.panelAction);
+        });
     // Direct jumps (docs/xr.md): sizes by the pen hand's stick, zoom steps by the other's.
     const Push penPush = stickPush(h.penStickX, h.penStickY, mPenStickArmed);
     if (penPush == Push::Down) {

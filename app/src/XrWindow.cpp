@@ -3,6 +3,7 @@
 
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/app/XrInput.h"
+#include "vsculpt/app/XrPanelUi.h"
 #include "vsculpt/core/DurationHistogram.h"
 #include "vsculpt/core/Mesh.h"
 #include "vsculpt/core/WriteFileAtomically.h"
@@ -54,26 +55,6 @@ const char* toolName(ToolKind t) {
            : t == ToolKind::Carve  ? "carve"
            : t == ToolKind::Smooth ? "smooth"
                                    : "select";
-}
-
-/// The status panel's text (ImGui, between UiLayer::beginFrame and endFrame): what the
-/// window's title bar says, where the sculptor can read it.
-void statusPanel(const Session& s, double frameMs, bool engaged, bool grabbing, int w, int h) {
-    ImGui::SetNextWindowPos(ImVec2(0, 0));
-    ImGui::SetNextWindowSize(ImVec2(float(w), float(h)));
-    ImGui::SetNextWindowBgAlpha(0.75f);
-    ImGui::Begin("status", nullptr,
-                 ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoInputs |
-                     ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
-    const double mm = s.sculpture().levels().level(s.size()).diameterMm;
-    ImGui::Text("%s  size %d (%.1f mm)  zoom %d", toolName(s.tool()), s.size(), mm, s.zoom());
-    ImGui::Text("mirror %s",
-                s.mirror() == core::MirrorAxis::None ? "off" : core::toString(s.mirror()));
-    ImGui::Text("%zu skeletons", s.sculpture().counts().total());
-    ImGui::Text("%s%s", engaged ? "sculpting" : "pen up",
-                grabbing ? "  holding the sculpture" : "");
-    ImGui::Text("%.1f ms/frame", frameMs);
-    ImGui::End();
 }
 
 }  // namespace
@@ -132,20 +113,26 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
         return 1;
     }
     XrInput input(cfg.render.xr, rig->interaction(), rig->studio());
-    // The status as a panel beside the sculpture (an OpenXR quad layer): drawn with the
-    // window's UI layer into its own image, copied into the panel's swapchain image.
-    std::unique_ptr<render::UiLayer> ui;
+    // The status and the palette as a panel beside the sculpture (an OpenXR quad layer),
+    // pointed at with the pen: drawn with the window's UI layer into its own image, copied
+    // into the panel's swapchain image.
+    std::unique_ptr<XrPanelUi> panelUi;
     const devices::XrPanel panel;
     if (o.ui) {
         try {
-            ui = std::make_unique<render::UiLayer>(*viewer);
-            ui->setScale(float(1.5 * cfg.render.uiScale));
+            panelUi = std::make_unique<XrPanelUi>(*viewer, panel, cfg.render.xr,
+                                                  float(cfg.render.uiScale));
             xr->createPanel(panel);
         } catch (const std::exception& e) {
-            spdlog::warn("no status panel in the headset: {}", e.what());
-            ui.reset();
+            spdlog::warn("no panel in the headset: {}", e.what());
+            panelUi.reset();
         }
     }
+    // Buttons clicked on the panel, each handed to XrInput with the next frame's hands (so a
+    // recording holds them), and what the last save or export said.
+    std::vector<std::string> clicked;
+    std::string message;
+    ToolContact lastContact = ToolContact::Air;
     double frameMs = 0;
     // The controllers as a device of their own in a recording: `vsculpt play` maps the same
     // hands through DeviceInput (driver "openxr") with the same config.
@@ -201,14 +188,23 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
                 xr->requestExit();
                 code = 2;
             }
-            const XrHands hands =
-                handsInWorld(xr->syncInput(timing.predictedDisplayTime), cfg.render.xr);
+            XrHands hands = handsInWorld(xr->syncInput(timing.predictedDisplayTime), cfg.render.xr);
+            if (!clicked.empty()) {
+                hands.panelAction = clicked.front();
+                clicked.erase(clicked.begin());
+            }
+            // While the pen points at the panel its trigger clicks there and sculpts nothing.
+            const bool onPanel =
+                panelUi &&
+                panelUi->point(hands, !input.engaged() && lastContact == ToolContact::Air);
+            if (onPanel) hands.trigger = 0;
             if (recording)
                 recording->write({devices::DeviceEventKind::Report, devices::monotonicNowNs(),
                                   recorded, xrHandsReport(hands)});
             input.handle(hands);
             // Trackers and 3D mice keep working beside the controllers.
             rig->pumpDevices();
+            if (auto done = rig->pollBackgroundWork()) message = *done;
 
             const glm::dmat4 worldFromObject = session.objectPose().matrix();
             const glm::dmat4 objectFromWorld = glm::inverse(worldFromObject);
@@ -243,6 +239,7 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
                 xr->stopVibration();
             }
             vibrating = amplitude > 0;
+            lastContact = contact;  // the next frame's panel takes the trigger only in the air
 
             // The one place the mesh reaches the GPU.
             // The mesher's last published set: the frame never waits for a rebuild.
@@ -258,16 +255,35 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
                     if (e == 0 && !o.hidden) viewer->blitToWindow(texture, eye.width, eye.height);
                     xr->releaseEye(e);
                 }
-                if (ui) {
+                if (panelUi) {
                     const unsigned texture = xr->acquirePanel();
-                    ui->beginFrame(panel.widthPx, panel.heightPx, std::max(1e-3, frameMs / 1000));
-                    statusPanel(session, frameMs, input.engaged(), input.grabbing(), panel.widthPx,
-                                panel.heightPx);
-                    const render::UiImage image = ui->endFrame();
-                    viewer->copyTexture(image.texture, texture, panel.widthPx, panel.heightPx);
+                    SculptUiView view = sculptUiViewOf(session, rig->interaction());
+                    view.frameMs = frameMs;
+                    view.message = message;
+                    const std::string handsLine =
+                        std::string(onPanel           ? "pointing at the panel"
+                                    : input.engaged() ? "sculpting"
+                                                      : "pen up") +
+                        (input.grabbing() ? ", holding the sculpture" : "");
+                    for (const UiAction& a : panelUi->draw(view, handsLine, frameMs / 1000)) {
+                        if (!Rig::handles(a.name)) {
+                            clicked.push_back(a.name);
+                            continue;
+                        }
+                        try {
+                            message = rig->projectAction(a.name);  // save, export
+                            spdlog::info("{}", message);
+                        } catch (const std::logic_error&) {
+                            throw;
+                        } catch (const std::exception& e) {
+                            message = e.what();
+                            spdlog::warn("{}", message);
+                        }
+                    }
+                    viewer->copyTexture(panelUi->texture(), texture, panel.widthPx, panel.heightPx);
                     xr->releasePanel();
                 }
-                xr->endFrame(timing, &eyes, ui != nullptr);
+                xr->endFrame(timing, &eyes, panelUi != nullptr);
                 ++rendered;
             } else {
                 xr->endFrame(timing, nullptr);

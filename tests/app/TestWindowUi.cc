@@ -2,16 +2,22 @@
 // The windows' on-screen UI (Dear ImGui) under Xvfb + Mesa: the panels are on screen with
 // their colours and text, the help overlay comes with its key, side by side the UI is in both
 // eyes at its disparity, clicks on the UI change the session without sculpting, and typing in
-// the export dialog runs no key bindings.
+// the export dialog runs no key bindings; the headset's panel clicks where the pen points.
 #include "vsculpt/app/SketchWindow.h"
 #include "vsculpt/app/Window.h"
+#include "vsculpt/app/XrPanelUi.h"
 #include "vsculpt/core/WriteFileAtomically.h"
 #include "vsculpt/render/Shot.h"
+#include "vsculpt/render/Viewer.h"
+#include "vsculpt/studio/Interaction.h"
+#include "vsculpt/studio/Studio.h"
 
 #include <gtest/gtest.h>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>  // key and button codes
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <cmath>
 #include <filesystem>
@@ -376,3 +382,90 @@ TEST(WindowUi, SketchWindowHasItsPanelAndHelpOnItsKey) {
 }
 
 }  // namespace
+
+// The headset's panel (XrPanelUi): the pen's ray is the pointer, its trigger the button.
+TEST(XrPanelUi, ThePensTriggerClicksTheButtonItPointsAt) {
+    render::Viewer viewer(320, 240, "vsculpt panel test", false);
+    core::SculptConfig cfg;
+    cfg.polygonizer.gridN = 32;
+    studio::Studio studio(cfg);
+    studio::Interaction interaction(studio);
+    const devices::XrPanel panel;
+    app::XrPanelUi panelUi(viewer, panel, cfg.render.xr, 1.0f);
+    auto frame = [&] {
+        return panelUi.draw(app::sculptUiViewOf(studio.session(), interaction), "pen up", 0.011);
+    };
+    EXPECT_TRUE(frame().empty());  // lays the panel out
+    const std::map<std::string, app::UiRect> rects = panelUi.state().rects;
+    // Every button of the palette, and save and export, lies on the panel's image.
+    size_t buttons = 0;
+    for (const auto& [name, r] : rects)
+        if (name.rfind("button:", 0) == 0) {
+            ++buttons;
+            EXPECT_TRUE(r.x0 >= 0 && r.y0 >= 0 && r.x1 <= panel.widthPx && r.y1 <= panel.heightPx)
+                << name << " at " << r.x0 << ", " << r.y0 << " .. " << r.x1 << ", " << r.y1;
+        }
+    EXPECT_EQ(buttons, 4 + 2 + 4 + interaction.offeredSizes().size() + 5 + 2);
+
+    const glm::dmat4 worldFromP = app::worldFromPanel(panel, cfg.render.xr);
+    const glm::dvec2 size = app::panelSizeMm(panel);
+    const glm::dvec3 centre(worldFromP[3]), right(worldFromP[0]), up(worldFromP[1]),
+        face(worldFromP[2]);
+    glm::dvec3 origin;
+    // The pen a third of a metre in front of the panel, a little aside, pointing at `r`.
+    auto pointingAt = [&](const app::UiRect& r) {
+        const glm::dvec3 target = centre + (r.cx() / panel.widthPx - 0.5) * size.x * right +
+                                  (0.5 - r.cy() / panel.heightPx) * size.y * up;
+        origin = target + 330.0 * face + glm::dvec3(40, -30, 20);
+        return glm::inverse(glm::lookAt(origin, target, glm::dvec3(0, 0, 1)));
+    };
+    app::XrHands h;
+    const app::UiRect carve = rects.at("button:carve");
+    h.worldFromPen = pointingAt(carve);
+    EXPECT_TRUE(panelUi.point(h, true));
+    ASSERT_TRUE(panelUi.pointer());
+    EXPECT_NEAR(panelUi.pointer()->x, carve.cx(), 1e-6);
+    EXPECT_NEAR(panelUi.pointer()->y, carve.cy(), 1e-6);
+    EXPECT_TRUE(frame().empty());  // pointing clicks nothing
+    h.trigger = 1;
+    EXPECT_TRUE(panelUi.point(h, true));
+    EXPECT_TRUE(frame().empty());  // a button clicks when it is let go, as in the window
+    h.trigger = 0.3f;              // under 80 % of the threshold: released
+    EXPECT_TRUE(panelUi.point(h, true));
+    std::vector<app::UiAction> clicked = frame();
+    ASSERT_EQ(clicked.size(), 1u);
+    EXPECT_EQ(clicked[0].name, "tool_carve");
+
+    // A pen that is sculpting, or whose tool is in the clay, neither points nor clicks.
+    h.worldFromPen = pointingAt(rects.at("button:mirror x"));
+    for (float t : {0.0f, 1.0f, 0.0f}) {
+        h.trigger = t;
+        EXPECT_FALSE(panelUi.point(h, false));
+        EXPECT_FALSE(panelUi.pointer());
+        EXPECT_TRUE(frame().empty());
+    }
+    // Free, the same button clicks.
+    for (float t : {0.0f, 1.0f, 0.0f}) {
+        h.trigger = t;
+        EXPECT_TRUE(panelUi.point(h, true));
+        clicked = frame();
+    }
+    ASSERT_EQ(clicked.size(), 1u);
+    EXPECT_EQ(clicked[0].name, "mirror_x");
+
+    // Pressed on a button, then pointed away with the trigger held: the trigger stays the
+    // panel's until it is let go (no stroke starts), and nothing is clicked.
+    h.worldFromPen = pointingAt(rects.at("button:save"));
+    h.trigger = 1;
+    EXPECT_TRUE(panelUi.point(h, true));
+    EXPECT_TRUE(frame().empty());
+    const glm::dvec3 from = origin;
+    h.worldFromPen = glm::inverse(glm::lookAt(from, from + face, glm::dvec3(0, 0, 1)));
+    EXPECT_TRUE(panelUi.point(h, true));
+    EXPECT_FALSE(panelUi.pointer());
+    EXPECT_TRUE(frame().empty());
+    h.trigger = 0;
+    EXPECT_TRUE(panelUi.point(h, true));  // the frame it is let go is still the panel's
+    EXPECT_TRUE(frame().empty());
+    EXPECT_FALSE(panelUi.point(h, true));
+}

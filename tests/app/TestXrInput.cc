@@ -3,6 +3,7 @@
 // fields of view into glm and the studio's world, the haptic and pen mappings, and XrInput
 // driving a studio the thesis's two-handed way. The runtime end to end: tests/xr/TestXr.cc.
 #include "vsculpt/app/XrInput.h"
+#include "vsculpt/app/XrPanelUi.h"
 #include "vsculpt/core/Mesh.h"
 #include "vsculpt/devices/XrBindings.h"
 #include "vsculpt/studio/Session.h"
@@ -245,6 +246,126 @@ TEST(XrInput, RecordedReportsAreLossless) {
     lying[0] |= 2;
     EXPECT_FALSE(parseXrHandsReport(lying));
     EXPECT_TRUE(parseXrHandsReport(xrHandsReport(XrHands{})));
+
+    // A button clicked on the headset's panel travels with the hands: a length byte and the
+    // action's name after the thumbsticks.
+    h.panelAction = "mirror_z";
+    const std::vector<uint8_t> clicked = xrHandsReport(h);
+    EXPECT_EQ(clicked.size(), bytes.size() + 1 + 8);
+    const std::optional<XrHands> clickedBack = parseXrHandsReport(clicked);
+    ASSERT_TRUE(clickedBack);
+    EXPECT_EQ(clickedBack->panelAction, "mirror_z");
+    EXPECT_EQ(*clickedBack->worldFromPen, *h.worldFromPen);
+    EXPECT_EQ(parseXrHandsReport(bytes)->panelAction, "");
+    // A name that is not a sculpting action, or a length past the report's end, is refused.
+    std::vector<uint8_t> notAnAction(bytes);
+    for (uint8_t c : std::string("\4save"))
+        notAnAction.push_back(c);
+    EXPECT_FALSE(parseXrHandsReport(notAnAction));
+    std::vector<uint8_t> cut(clicked.begin(), clicked.end() - 1);
+    EXPECT_FALSE(parseXrHandsReport(cut));
+}
+
+/// A pen pose at `origin` pointing (its -z) at `target`, world mm.
+glm::dmat4 penPointingAt(const glm::dvec3& origin, const glm::dvec3& target) {
+    // lookAt's eye looks along its -z, as the aim pose points.
+    return glm::inverse(glm::lookAt(origin, target, glm::dvec3(0, 0, 1)));
+}
+
+TEST(XrPanel, ThePensRayMeetsThePanelWhereItPoints) {
+    const core::SculptConfig cfg = config();
+    const XrPanel panel;
+    const glm::dmat4 worldFromP = worldFromPanel(panel, cfg.render.xr);
+    const glm::dvec2 size = panelSizeMm(panel);
+    EXPECT_NEAR(size.x, panel.widthM * 1000, 1e-9);
+    EXPECT_NEAR(size.y, size.x * panel.heightPx / panel.widthPx, 1e-9);
+    // Placed as the controllers are: its centre where a hand at the same local point would be.
+    glm::dmat4 localFromHand(1.0);
+    localFromHand[3] = glm::dvec4(panel.positionM, 1);
+    expectNear(glm::dvec3(worldFromP[3]),
+               glm::dvec3(worldPoseFromXrLocal(localFromHand, cfg.render.xr.sculptureInLocalM)[3]));
+    const glm::dvec3 centre(worldFromP[3]), right(worldFromP[0]), up(worldFromP[1]),
+        face(worldFromP[2]);
+    EXPECT_NEAR(glm::length(right), 1, 1e-12);
+    EXPECT_NEAR(glm::dot(right, face), 0, 1e-12);
+    // It faces where the head was at the start (the local origin), 0.1 m below the eyes.
+    const glm::dvec3 head(
+        worldPoseFromXrLocal(glm::dmat4(1.0), cfg.render.xr.sculptureInLocalM)[3]);
+    EXPECT_GT(glm::dot(glm::normalize(head - centre), face), 0.985);
+
+    const int w = panel.widthPx, h = panel.heightPx;
+    auto pointOf = [&](double px, double py) {
+        return centre + (px / w - 0.5) * size.x * right + (0.5 - py / h) * size.y * up;
+    };
+    const glm::dvec3 pen = centre + 350.0 * face + glm::dvec3(60, -40, 25);
+    for (const glm::dvec2 px : {glm::dvec2(w / 2.0, h / 2.0), glm::dvec2(100.25, 37.5),
+                                glm::dvec2(0.5, 0.5), glm::dvec2(w - 0.5, h - 0.5)}) {
+        const auto hit =
+            panelPixelAt(penPointingAt(pen, pointOf(px.x, px.y)), worldFromP, size, w, h);
+        ASSERT_TRUE(hit) << px.x << " " << px.y;
+        EXPECT_NEAR(hit->x, px.x, 1e-6);
+        EXPECT_NEAR(hit->y, px.y, 1e-6);
+    }
+    // Past an edge, pointing away, from behind, or along the panel: no hit.
+    EXPECT_FALSE(panelPixelAt(penPointingAt(pen, pointOf(-2, h / 2.0)), worldFromP, size, w, h));
+    EXPECT_FALSE(panelPixelAt(penPointingAt(pen, pointOf(w / 2.0, h + 2)), worldFromP, size, w, h));
+    EXPECT_FALSE(panelPixelAt(penPointingAt(pen, 2.0 * pen - pointOf(w / 2.0, h / 2.0)), worldFromP,
+                              size, w, h));
+    const glm::dvec3 behind = centre - 350.0 * face;
+    EXPECT_FALSE(
+        panelPixelAt(penPointingAt(behind, pointOf(w / 2.0, h / 2.0)), worldFromP, size, w, h));
+    EXPECT_FALSE(panelPixelAt(penPointingAt(centre + 100.0 * right, centre - 100.0 * right),
+                              worldFromP, size, w, h));
+}
+
+TEST(XrInput, PanelButtonsDoWhatThePalettesButtonsDo) {
+    const core::SculptConfig cfg = config();
+    Studio studio(cfg);
+    const Session& s = studio.session();
+    Interaction ui(studio);
+    XrInput input(cfg.render.xr, ui, studio);
+    auto click = [&](const std::string& action) {
+        XrHands h;
+        h.panelAction = action;
+        input.handle(h);
+    };
+    click("tool_carve");
+    EXPECT_EQ(s.tool(), ToolKind::Carve);
+    click("tool_smooth");
+    EXPECT_EQ(s.tool(), ToolKind::Smooth);
+    click("mirror_x");
+    EXPECT_EQ(s.mirror(), core::MirrorAxis::X);
+    click("mirror_off");
+    EXPECT_EQ(s.mirror(), core::MirrorAxis::None);
+    const std::vector<int> offered = ui.offeredSizes();
+    ASSERT_GE(offered.size(), 2u);
+    click("size_" + std::to_string(offered.back()));
+    EXPECT_EQ(s.size(), offered.back());
+    click("zoom_2");
+    EXPECT_EQ(s.zoom(), 2);
+    click("overview");
+    EXPECT_EQ(s.zoom(), 1);
+
+    // A stroke with the trigger, then undo and redo from the panel.
+    click("tool_add");
+    XrHands pen;
+    pen.worldFromPen = glm::translate(glm::dmat4(1.0), glm::dvec3(-10, 0, 30));
+    pen.trigger = 1;
+    input.handle(pen);
+    pen.worldFromPen = glm::translate(glm::dmat4(1.0), glm::dvec3(10, 0, 30));
+    input.handle(pen);
+    pen.trigger = 0;
+    input.handle(pen);
+    const size_t sculpted = s.sculpture().counts().total();
+    click("undo");
+    const size_t undone = s.sculpture().counts().total();
+    EXPECT_LT(undone, sculpted);
+    click("redo");
+    EXPECT_EQ(s.sculpture().counts().total(), sculpted);
+    // What is not a sculpting action is logged and changes nothing.
+    EXPECT_NO_THROW(click("save"));
+    EXPECT_EQ(s.sculpture().counts().total(), sculpted);
+    EXPECT_EQ(s.tool(), ToolKind::Add);
 }
 
 TEST(XrInput, ThumbsticksJumpToSizesAndZoomOncePerPush) {

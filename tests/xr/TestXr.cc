@@ -3,7 +3,15 @@
 // core validation layer, and the scripted test runtime (TestRuntime.cpp) found through
 // XR_RUNTIME_JSON; GL from Mesa under the xvfb-run the test binary runs in. Every run must leave
 // the validation layer and the debug messenger silent.
+#include "vsculpt/app/XrPanelUi.h"
+#include "vsculpt/render/Viewer.h"
+#include "vsculpt/studio/Interaction.h"
+#include "vsculpt/studio/Studio.h"
+
 #include <gtest/gtest.h>
+
+#define GLM_ENABLE_EXPERIMENTAL
+#include <glm/gtx/quaternion.hpp>
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -141,14 +149,14 @@ TEST_F(Xr, SessionLifecycleAndBothEyesEveryFrame) {
     }
     EXPECT_EQ(linesStarting(r.log, "swapchain 256x256 format 0x8058").size(), 2u)
         << "one linear RGBA8 swapchain per eye";
-    EXPECT_EQ(linesStarting(r.log, "swapchain 480x160 format 0x8058").size(), 1u)
+    EXPECT_EQ(linesStarting(r.log, "swapchain 720x360 format 0x8058").size(), 1u)
         << "the status panel's";
     EXPECT_EQ(linesStarting(r.log, "bindings /interaction_profiles/").size(), 4u);
     const auto frames = linesStarting(r.log, "frame ");
     ASSERT_EQ(frames.size(), 12u);
     // Both eyes' projection layer, then the status panel as a quad layer over it.
     const std::regex both(
-        R"(frame \d+ layers 2 projection views 2 eye0 released 1 rect 256x256 lit (-?\d+) eye1 released 1 rect 256x256 lit (-?\d+) quad 480x160 size 0.240x0.080 released 1 lit (-?\d+))");
+        R"(frame \d+ layers 2 projection views 2 eye0 released 1 rect 256x256 lit (-?\d+) eye1 released 1 rect 256x256 lit (-?\d+) quad 720x360 size 0.360x0.180 released 1 lit (-?\d+))");
     for (const std::string& f : frames) {
         std::smatch m;
         ASSERT_TRUE(std::regex_match(f, m, both)) << f;
@@ -327,6 +335,73 @@ TEST_F(Xr, LeftButtonsCycleTheToolOnTouchControllers) {
     EXPECT_NE(r.output.find("tool carve"), std::string::npos) << r.output;
     const XrRun before = run("", "--xr --frames 2");
     EXPECT_NE(match(before.output, "size (\\d+)"), match(r.output, "size (\\d+)")) << r.output;
+}
+
+// The local-space pose (metres; "X Y Z QX QY QZ QW") of a pen a third of a metre in front of
+// the headset's panel, pointing at the centre of its button `name` as the panel lays it out
+// (the same UI code and font in this process, under the same Xvfb).
+std::string penAtPanelButton(const std::string& name) {
+    static std::map<std::string, vsculpt::app::UiRect> rects;
+    const vsculpt::devices::XrPanel panel;
+    if (rects.empty()) {
+        vsculpt::render::Viewer viewer(64, 64, "panel layout", false);
+        const vsculpt::core::SculptConfig cfg;
+        vsculpt::studio::Studio studio(cfg);
+        vsculpt::studio::Interaction interaction(studio);
+        vsculpt::app::XrPanelUi ui(viewer, panel, cfg.render.xr, float(cfg.render.uiScale));
+        ui.draw(vsculpt::app::sculptUiViewOf(studio.session(), interaction), "pen up", 0.011);
+        rects = ui.state().rects;
+    }
+    const vsculpt::app::UiRect r = rects.at("button:" + name);
+    const glm::dmat3 axes = glm::mat3_cast(glm::normalize(panel.orientation));
+    const double heightM = panel.widthM * panel.heightPx / panel.widthPx;
+    const glm::dvec3 target =
+        panel.positionM + axes * glm::dvec3((r.cx() / panel.widthPx - 0.5) * panel.widthM,
+                                            (0.5 - r.cy() / panel.heightPx) * heightM, 0);
+    const glm::dvec3 pen = target + axes * glm::dvec3(0, 0, 0.33) + glm::dvec3(0.03, -0.02, 0);
+    const glm::dquat q = glm::rotation(glm::dvec3(0, 0, -1), glm::normalize(target - pen));
+    std::ostringstream out;
+    out.precision(9);
+    out << pen.x << " " << pen.y << " " << pen.z << " " << q.x << " " << q.y << " " << q.z << " "
+        << q.w;
+    return out.str();
+}
+
+TEST_F(Xr, ThePenClicksThePanelAndARecordingReplaysTheClick) {
+    // The pen points at the panel's "x" mirror button and the trigger clicks it (sculpting
+    // nothing there), then a stroke beside the plane x = 0 adds clay on both sides.
+    std::ostringstream s;
+    s << "at 0 right " << penAtPanelButton("mirror x") << "\n"
+      << "at 2 /user/hand/right/input/trigger/value 1\n"
+      << "at 4 /user/hand/right/input/trigger/value 0\n";
+    std::ostringstream stroke;
+    for (int i = 0; i <= 8; ++i)
+        stroke << "at " << 8 + i << " right " << local(4 + 2 * i, 10, 1) << " 0 0 0 1\n";
+    stroke << "at 8 /user/hand/right/input/trigger/value 1\n"
+           << "at 17 /user/hand/right/input/trigger/value 0\n";
+    const fs::path rec = mDir / "session.vsrec";
+    const XrRun r = run(s.str() + stroke.str(), "--xr --frames 22 --record '" + rec.string() + "'");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    expectValidationClean(r);
+    // One step: the click added no clay where the pen was.
+    EXPECT_NE(r.output.find(", 1 step(s)"), std::string::npos) << r.output;
+    const std::string liveHash = match(r.output, "mesh hash ([0-9a-f]{16})");
+    const XrRun plain = run(stroke.str(), "--xr --frames 22");
+    ASSERT_EQ(plain.exitCode, 0) << plain.output;
+    EXPECT_NE(match(plain.output, "mesh hash ([0-9a-f]{16})"), liveHash)
+        << "the stroke was not mirrored: the click did not reach the studio";
+
+    // The recording holds the click with the hands: the replay mirrors the stroke too.
+    const std::string cmd =
+        std::string(VSCULPT_BINARY) + " play '" + rec.string() + "' --no-progress 2>&1";
+    FILE* p = ::popen(cmd.c_str(), "r");
+    ASSERT_TRUE(p);
+    std::string playOut;
+    char buf[4096];
+    for (size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;)
+        playOut.append(buf, n);
+    ASSERT_EQ(::pclose(p), 0) << playOut;
+    EXPECT_EQ(match(playOut, "mesh hash ([0-9a-f]{16})"), liveHash) << r.output << "\n" << playOut;
 }
 
 TEST_F(Xr, ThumbsticksJumpToASizeAndZoomIn) {

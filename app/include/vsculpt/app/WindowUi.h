@@ -12,6 +12,7 @@
 #include "vsculpt/core/Config.h"
 #include "vsculpt/core/ExportMesh.h"
 #include "vsculpt/core/ImportMesh.h"
+#include "vsculpt/studio/Interaction.h"
 #include "vsculpt/studio/Session.h"
 
 #include <array>
@@ -99,12 +100,25 @@ struct SculptUiView {
     float marginPx = 0;
 };
 
+/// The session's part of the view: tool, mirror, size, the sizes the zoom offers, zoom,
+/// skeletons and project (the caller adds frame time, message, bindings and margin).
+SculptUiView sculptUiViewOf(const studio::Session& session, const studio::Interaction& interaction);
+
 /// The sculpting window's UI for one frame (between UiLayer::beginFrame and endFrame):
 /// the palette along the bottom, the status panel at the top left, and the shared parts.
 /// Preferences edit `cfg` in place (the window applies them when "preferences_changed"
 /// comes back). `width`, `height`: the UI's size in pixels.
 std::vector<UiAction> sculptUi(UiState& state, const SculptUiView& view, core::SculptConfig& cfg,
                                int width, int height);
+
+/// The headset's panel (XrPanelUi.h) for one frame over its whole image (`width` x `height`
+/// pixels): the status (tool, size, zoom, mirror, skeletons, frame time, `hands`: what the
+/// controllers are doing, the project and the last message), the palette's rows as in the
+/// window (tool, undo, redo, mirror, sizes, zoom), "save" and "export" (a .glb into the
+/// project, as the window's export key), and a dot where the pen points. Buttons are larger
+/// than the window's: they are aimed at with a controller's ray from arm's length.
+std::vector<UiAction> headsetUi(UiState& state, const SculptUiView& view, const std::string& hands,
+                                int width, int height);
 
 /// What the sketch window's panel shows.
 struct SketchUiView {

@@ -26,6 +26,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace vsculpt::app {
@@ -40,6 +41,10 @@ struct XrHands {
     /// Thumbsticks, -1..1: the pen hand's (direct size jumps, redo) and the 3D-mouse hand's y
     /// (zoom in and out at the tool).
     float penStickX = 0, penStickY = 0, mouseStickY = 0;
+    /// A button clicked on the headset's panel this frame (SculptAction.h: "tool_carve",
+    /// "mirror_x", "size_3", "undo", ...), or empty. While the pen points at the panel its
+    /// trigger clicks there: the frame loop hands XrInput a trigger of 0 (XrPanelUi.h).
+    std::string panelAction;
 };
 
 /// The controllers of one sync mapped from OpenXR's local space into the world (XrBindings.h,
@@ -50,10 +55,11 @@ XrHands handsInWorld(const devices::XrControllers& c, const core::XrConfig& cfg)
 /// a flags byte (bit 0 pen tracked, 1 3D-mouse hand tracked, 2 grip, 3 undo, 4 cycle tool,
 /// 5 step, 6 overview, 7 thumbsticks follow), the trigger as a float, then for each tracked
 /// hand its pose's first three rows (12 doubles, column by column), then (bit 7) the three
-/// thumbstick floats; little-endian. Lossless: a replay maps exactly what the live run did.
+/// thumbstick floats, then, when a panel button was clicked, a length byte and the action's
+/// name; little-endian. Lossless: a replay maps exactly what the live run did.
 /// Reports without bit 7 (recorded before the thumbsticks) still parse.
 std::vector<uint8_t> xrHandsReport(const XrHands& hands);
-/// nullopt for a report of the wrong length.
+/// nullopt for a report of the wrong length or whose panel action is not a sculpting action.
 std::optional<XrHands> parseXrHandsReport(std::span<const uint8_t> bytes);
 
 /// The tool centre for a pen pose: pen_tip_mm ahead of it along its -z, and with

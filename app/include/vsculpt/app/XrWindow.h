@@ -3,9 +3,9 @@
 /// @brief Sculpting in an OpenXR headset: `vsculpt --xr` or render.output "xr" (docs/xr.md).
 /// The frame loop is paced by xrWaitFrame; each frame syncs the controllers (XrInput.h),
 /// draws both eyes into the runtime's swapchains and submits them as one projection layer,
-/// with the status (tool, size, zoom, ...) as a quad layer beside the sculpture. The desktop
-/// window mirrors the left eye (unless --hidden). The palette and dialogs are not in the
-/// headset in this first version.
+/// with the status and the palette as a quad layer beside the sculpture, clicked with the pen
+/// (XrPanelUi.h). The desktop window mirrors the left eye (unless --hidden). The dialogs that
+/// need typing are not in the headset.
 #pragma once
 
 #include "vsculpt/app/Window.h"

@@ -76,13 +76,15 @@ struct XrEyeView {
     unsigned texture = 0;
 };
 
-/// A flat panel in the scene (an OpenXR quad layer): the status, drawn by the application
-/// into its own swapchain image. Local space, metres; the panel faces +z of its orientation.
+/// A flat panel in the scene (an OpenXR quad layer): the status and the palette, drawn by the
+/// application into its own swapchain image. Local space, metres; the panel faces +z of its
+/// orientation. By default at the left, within the pen's reach of a pointing ray, turned
+/// to face where the head was at the start (about 37 degrees about +y).
 struct XrPanel {
-    glm::dvec3 positionM{-0.3, -0.12, -0.62};
-    glm::dquat orientation{1, 0, 0, 0};
-    double widthM = 0.24;
-    int widthPx = 480, heightPx = 160;  ///< its image; the height in metres follows
+    glm::dvec3 positionM{-0.42, -0.1, -0.55};
+    glm::dquat orientation{0.94730349253202, 0, 0.32033746742558, 0};  ///< w, x, y, z
+    double widthM = 0.36;
+    int widthPx = 720, heightPx = 360;  ///< its image; the height in metres follows
 };
 
 struct XrFrameTiming {

@@ -759,6 +759,21 @@ TEST(CarveDepth, SpinesStartingInsideClayJoinIt) {
     }
 }
 
+// The spine forest of SpinesStartingInsideClayJoinIt over seeds 1..N (VSCULPT_SPINE_SEEDS=N):
+// how often a forest is more than one piece (docs/placement.md, "What remains").
+TEST(CarveDepth, PrintSpineSeeds) {
+    const char* n = std::getenv("VSCULPT_SPINE_SEEDS");
+    if (!n) GTEST_SKIP() << "set VSCULPT_SPINE_SEEDS=N";
+    int bad = 0;
+    for (unsigned seed = 1; seed <= unsigned(std::atoi(n)); ++seed) {
+        const Forest f = spineForest(seed);
+        if (f.components != 1 || !f.watertight || f.minAxisField <= 0) ++bad;
+        std::printf("seed %u: %zu components, watertight %d, min axis field %.4f\n", seed,
+                    size_t(f.components), int(f.watertight), f.minAxisField);
+    }
+    std::printf("%d seeds with more than one piece or a detached spine\n", bad);
+}
+
 TEST(CarveDepth, PrintSpill) {
     if (!printTables()) GTEST_SKIP() << "set VSCULPT_PLACEMENT_TABLES=1";
     Sculpture s(emptyConfig(PlacementMode::Swept));

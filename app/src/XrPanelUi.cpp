@@ -26,9 +26,8 @@ glm::dvec2 panelSizeMm(const devices::XrPanel& panel) {
     return {w, w * panel.heightPx / std::max(1, panel.widthPx)};
 }
 
-std::optional<glm::dvec2> panelPixelAt(const glm::dmat4& worldFromPen,
-                                       const glm::dmat4& worldFromPanel, const glm::dvec2& sizeMm,
-                                       int widthPx, int heightPx) {
+std::optional<PanelHit> panelHitAt(const glm::dmat4& worldFromPen, const glm::dmat4& worldFromPanel,
+                                   const glm::dvec2& sizeMm, int widthPx, int heightPx) {
     const glm::dvec3 origin(worldFromPen[3]);
     const glm::dvec3 dir = -glm::normalize(glm::dvec3(worldFromPen[2]));
     const glm::dvec3 centre(worldFromPanel[3]);
@@ -40,10 +39,11 @@ std::optional<glm::dvec2> panelPixelAt(const glm::dmat4& worldFromPen,
     if (towards >= -1e-9) return std::nullopt;
     const double t = glm::dot(centre - origin, face) / towards;
     if (t <= 0) return std::nullopt;
-    const glm::dvec3 hit = origin + t * dir - centre;
-    const double u = glm::dot(hit, right) / sizeMm.x + 0.5, v = 0.5 - glm::dot(hit, up) / sizeMm.y;
+    const glm::dvec3 world = origin + t * dir, onPanel = world - centre;
+    const double u = glm::dot(onPanel, right) / sizeMm.x + 0.5,
+                 v = 0.5 - glm::dot(onPanel, up) / sizeMm.y;
     if (u < 0 || u >= 1 || v < 0 || v >= 1) return std::nullopt;
-    return glm::dvec2(u * widthPx, v * heightPx);
+    return PanelHit{glm::dvec2(u * widthPx, v * heightPx), world};
 }
 
 XrPanelUi::XrPanelUi(render::Viewer& viewer, const devices::XrPanel& panel,
@@ -59,11 +59,11 @@ XrPanelUi::XrPanelUi(render::Viewer& viewer, const devices::XrPanel& panel,
 XrPanelUi::~XrPanelUi() = default;
 
 bool XrPanelUi::point(const XrHands& hands, bool penFree) {
-    mPointer.reset();
+    mHit.reset();
     if (hands.worldFromPen && (penFree || mPressed))
-        mPointer = panelPixelAt(*hands.worldFromPen, mWorldFromPanel, mSizeMm, mPanel.widthPx,
-                                mPanel.heightPx);
-    mUi->setPointer(mPointer ? mPointer->x : -1, mPointer ? mPointer->y : -1);
+        mHit = panelHitAt(*hands.worldFromPen, mWorldFromPanel, mSizeMm, mPanel.widthPx,
+                          mPanel.heightPx);
+    mUi->setPointer(mHit ? mHit->pixel.x : -1, mHit ? mHit->pixel.y : -1);
     const double t = mCfg.triggerThreshold;
     render::InputEvent button{render::InputEvent::Kind::MouseButton, GLFW_MOUSE_BUTTON_LEFT};
     if (mPressed) {
@@ -76,7 +76,7 @@ bool XrPanelUi::point(const XrHands& hands, bool penFree) {
         }
         return true;
     }
-    if (!mPointer) return false;
+    if (!mHit) return false;
     if (hands.trigger >= t) {
         button.pressed = true;
         mUi->feed(button);

@@ -214,6 +214,13 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
             tool.visible = input.toolWorld().has_value();
             tool.radiusMm = toolRadius;
             tool.selectBox = session.tool() == ToolKind::Select;
+            // The pen's ray to the panel while it points there.
+            if (const auto at = panelUi ? panelUi->pointerWorld() : std::nullopt;
+                at && hands.worldFromPen) {
+                tool.pointer = true;
+                tool.pointerFrom = core::Vec3((*hands.worldFromPen)[3]);
+                tool.pointerTo = *at;
+            }
             ToolContact contact = ToolContact::Air;
             if (input.toolWorld()) {
                 tool.worldPos = *input.toolWorld();

@@ -95,6 +95,7 @@ struct Viewer::Impl {
     // Surface lines drawn on the model (object space), as GL_LINES pairs.
     std::vector<std::vector<core::Vec3>> lines;
     detail::GpuMesh lineMesh;
+    detail::GpuMesh pointerMesh;  // the headset pen's ray, uploaded per eye (two vertices)
     GLuint uiProgram = 0;
     // The display of the last draw and the UI shift it gave each eye (NDC).
     StereoDisplay lastDisplay;
@@ -168,6 +169,7 @@ Viewer::~Viewer() {
         c.release();
     mImpl->sphere.release();
     mImpl->lineMesh.release();
+    mImpl->pointerMesh.release();
     glDeleteProgram(mImpl->program);
     glDeleteProgram(mImpl->postProgram);
     glDeleteProgram(mImpl->uiProgram);
@@ -562,6 +564,22 @@ FrameStats Viewer::drawEye(const glm::dmat4& worldFromObject, const ToolDraw& to
             glUniform3f(m.tintLoc, 0.25f, 0.25f, 0.3f);
             m.sphere.draw();
         }
+    }
+    if (tool.pointer) {
+        // A thin bright line from the pen to where it points; its normals face this eye, so
+        // the headlight shading leaves it evenly bright.
+        core::Mesh ray;
+        ray.positions = {tool.pointerFrom, tool.pointerTo};
+        for (const core::Vec3& p : ray.positions) {
+            const core::Vec3 toEye = eye.worldPosition - p;
+            ray.normals.push_back(glm::length(toEye) > 0 ? glm::normalize(toEye)
+                                                         : core::Vec3(0, 0, 1));
+        }
+        ray.indices = {0, 1};
+        m.pointerMesh.upload(ray);
+        glUniformMatrix4fv(m.worldFromObjectLoc, 1, GL_FALSE, glm::value_ptr(glm::mat4(1.f)));
+        glUniform3f(m.tintLoc, 0.75f, 0.95f, 1.1f);
+        m.pointerMesh.draw(GL_LINES);
     }
     if (multisample) {
         glBindFramebuffer(GL_READ_FRAMEBUFFER, m.msFbo);

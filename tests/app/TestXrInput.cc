@@ -301,21 +301,22 @@ TEST(XrPanel, ThePensRayMeetsThePanelWhereItPoints) {
     for (const glm::dvec2 px : {glm::dvec2(w / 2.0, h / 2.0), glm::dvec2(100.25, 37.5),
                                 glm::dvec2(0.5, 0.5), glm::dvec2(w - 0.5, h - 0.5)}) {
         const auto hit =
-            panelPixelAt(penPointingAt(pen, pointOf(px.x, px.y)), worldFromP, size, w, h);
+            panelHitAt(penPointingAt(pen, pointOf(px.x, px.y)), worldFromP, size, w, h);
         ASSERT_TRUE(hit) << px.x << " " << px.y;
-        EXPECT_NEAR(hit->x, px.x, 1e-6);
-        EXPECT_NEAR(hit->y, px.y, 1e-6);
+        EXPECT_NEAR(hit->pixel.x, px.x, 1e-6);
+        EXPECT_NEAR(hit->pixel.y, px.y, 1e-6);
+        expectNear(hit->world, pointOf(px.x, px.y), 1e-9);
     }
     // Past an edge, pointing away, from behind, or along the panel: no hit.
-    EXPECT_FALSE(panelPixelAt(penPointingAt(pen, pointOf(-2, h / 2.0)), worldFromP, size, w, h));
-    EXPECT_FALSE(panelPixelAt(penPointingAt(pen, pointOf(w / 2.0, h + 2)), worldFromP, size, w, h));
-    EXPECT_FALSE(panelPixelAt(penPointingAt(pen, 2.0 * pen - pointOf(w / 2.0, h / 2.0)), worldFromP,
-                              size, w, h));
+    EXPECT_FALSE(panelHitAt(penPointingAt(pen, pointOf(-2, h / 2.0)), worldFromP, size, w, h));
+    EXPECT_FALSE(panelHitAt(penPointingAt(pen, pointOf(w / 2.0, h + 2)), worldFromP, size, w, h));
+    EXPECT_FALSE(panelHitAt(penPointingAt(pen, 2.0 * pen - pointOf(w / 2.0, h / 2.0)), worldFromP,
+                            size, w, h));
     const glm::dvec3 behind = centre - 350.0 * face;
     EXPECT_FALSE(
-        panelPixelAt(penPointingAt(behind, pointOf(w / 2.0, h / 2.0)), worldFromP, size, w, h));
-    EXPECT_FALSE(panelPixelAt(penPointingAt(centre + 100.0 * right, centre - 100.0 * right),
-                              worldFromP, size, w, h));
+        panelHitAt(penPointingAt(behind, pointOf(w / 2.0, h / 2.0)), worldFromP, size, w, h));
+    EXPECT_FALSE(panelHitAt(penPointingAt(centre + 100.0 * right, centre - 100.0 * right),
+                            worldFromP, size, w, h));
 }
 
 TEST(XrInput, PanelButtonsDoWhatThePalettesButtonsDo) {

@@ -394,15 +394,19 @@ namespace {
 
 /// One headset eye drawn by Viewer::drawEye into a `size` x `size` sRGB texture (the format
 /// runtimes offer first), read back as RGB; `stats`, when given, gets the draw's.
-std::vector<int> eyeImage(Viewer& viewer, const EyeView& eye, int size,
-                          FrameStats* stats = nullptr) {
+ToolDraw noTool() {
+    ToolDraw tool;
+    tool.visible = false;
+    return tool;
+}
+
+std::vector<int> eyeImage(Viewer& viewer, const EyeView& eye, int size, FrameStats* stats = nullptr,
+                          const ToolDraw& tool = noTool()) {
     GLuint texture = 0;
     glGenTextures(1, &texture);
     glBindTexture(GL_TEXTURE_2D, texture);
     glTexStorage2D(GL_TEXTURE_2D, 1, GL_SRGB8_ALPHA8, size, size);
     glBindTexture(GL_TEXTURE_2D, 0);
-    ToolDraw tool;
-    tool.visible = false;
     const FrameStats drawn = viewer.drawEye(glm::dmat4(1.0), tool, eye, texture, size, size);
     if (stats) *stats = drawn;
     std::vector<uint8_t> rgba(size_t(size) * size * 4);
@@ -484,6 +488,63 @@ TEST(Viewer, HeadsetEyesAreAntialiasedWhenAsked) {
     // And back off: the aliased picture again, bit for bit.
     EXPECT_EQ(viewer.setEyeSamples(1), 1);
     EXPECT_EQ(eyeImage(viewer, eye, n), aliased);
+}
+
+// The headset's pointer: the pen's ray to the panel is a thin bright line in the eye, bluish
+// where the clay is grey, and it changes no pixel away from where the segment projects.
+TEST(Viewer, HeadsetEyesDrawThePensPointerRay) {
+    const test::SculptureView scene(32);
+    Viewer viewer(320, 240, "test", false);
+    viewer.syncChunks(*scene.poly);
+    StereoDisplay display;
+    const core::Aabb box = core::meshBounds(scene.poly->mesh());
+    const EyeView eye = stereoEyes(frameFromFront(box.min, box.max, 1.0, display), display)[0];
+    constexpr int n = 128;
+    const std::vector<int> plain = eyeImage(viewer, eye, n);
+    // A segment across the view, halfway between the eye and the sculpture.
+    const core::Vec3 mid = 0.5 * (eye.worldPosition + 0.5 * (box.min + box.max));
+    const glm::dmat4 clipFromWorld = eye.clipFromView * eye.viewFromWorld;
+    auto pixelOf = [&](const core::Vec3& p) {
+        const glm::dvec4 c = clipFromWorld * glm::dvec4(p, 1);
+        // Rows as read back (GL's bottom row first).
+        return glm::dvec2((c.x / c.w * 0.5 + 0.5) * n, (c.y / c.w * 0.5 + 0.5) * n);
+    };
+    ToolDraw tool = noTool();
+    tool.pointer = true;
+    const core::Vec3 right(glm::inverse(eye.viewFromWorld)[0]),
+        up(glm::inverse(eye.viewFromWorld)[1]);
+    const double span = 0.25 * glm::length(box.max - box.min);
+    tool.pointerFrom = mid - span * right + 0.2 * span * up;
+    tool.pointerTo = mid + span * right - 0.1 * span * up;
+    const std::vector<int> pointed = eyeImage(viewer, eye, n, nullptr, tool);
+    const glm::dvec2 a = pixelOf(tool.pointerFrom), b = pixelOf(tool.pointerTo);
+    ASSERT_GT(glm::length(b - a), 0.5 * n) << "the segment crosses the eye";
+    // Distance of a pixel's centre from the projected segment.
+    auto offSegment = [&](int x, int y) {
+        const glm::dvec2 p(x + 0.5, y + 0.5), d = b - a;
+        const double t = std::clamp(glm::dot(p - a, d) / glm::dot(d, d), 0.0, 1.0);
+        return glm::length(p - (a + t * d));
+    };
+    size_t changed = 0, onRay = 0, bluish = 0;
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            const size_t i = (size_t(y) * n + size_t(x)) * 3;
+            const bool differs = pointed[i] != plain[i] || pointed[i + 1] != plain[i + 1] ||
+                                 pointed[i + 2] != plain[i + 2];
+            if (!differs) continue;
+            ++changed;
+            EXPECT_LT(offSegment(x, y), 1.5) << "pixel " << x << ", " << y;
+            if (offSegment(x, y) < 0.5) {
+                ++onRay;
+                bluish += pointed[i + 2] - pointed[i] > 20 && pointed[i + 2] > 235;
+            }
+        }
+    // About one pixel per column the segment crosses, drawn in the ray's colour.
+    EXPECT_GT(changed, size_t(0.8 * std::abs(b.x - a.x)));
+    EXPECT_LT(changed, size_t(3 * std::abs(b.x - a.x)));
+    EXPECT_GT(bluish, onRay / 2) << onRay << " pixels on the ray";
+    tool.pointer = false;
+    EXPECT_EQ(eyeImage(viewer, eye, n, nullptr, tool), plain);
 }
 
 // Chunks wholly outside an eye's view are not drawn: zoomed in on one end of the bar, the eye

@@ -33,12 +33,16 @@ glm::dmat4 worldFromPanel(const devices::XrPanel& panel, const core::XrConfig& c
 /// layer's does).
 glm::dvec2 panelSizeMm(const devices::XrPanel& panel);
 
+/// Where a ray meets the panel: in the panel image's pixels (top-left origin) and in the
+/// world (mm).
+struct PanelHit {
+    glm::dvec2 pixel{0.0};
+    glm::dvec3 world{0.0};
+};
 /// Where the pen's pointing ray (from its aim pose's origin along its -z) meets the panel's
-/// face, in the panel image's pixels (top-left origin); nullopt when it misses the panel or
-/// meets it from behind.
-std::optional<glm::dvec2> panelPixelAt(const glm::dmat4& worldFromPen,
-                                       const glm::dmat4& worldFromPanel, const glm::dvec2& sizeMm,
-                                       int widthPx, int heightPx);
+/// face; nullopt when it misses the panel or meets it from behind.
+std::optional<PanelHit> panelHitAt(const glm::dmat4& worldFromPen, const glm::dmat4& worldFromPanel,
+                                   const glm::dvec2& sizeMm, int widthPx, int heightPx);
 
 class XrPanelUi {
   public:
@@ -59,7 +63,13 @@ class XrPanelUi {
     /// the tool.
     bool point(const XrHands& hands, bool penFree);
     /// Where the pen pointed at the last point(), in the image's pixels.
-    std::optional<glm::dvec2> pointer() const { return mPointer; }
+    std::optional<glm::dvec2> pointer() const {
+        return mHit ? std::optional<glm::dvec2>(mHit->pixel) : std::nullopt;
+    }
+    /// The same in the world (mm): where the pen's ray, drawn in the eyes, ends.
+    std::optional<glm::dvec3> pointerWorld() const {
+        return mHit ? std::optional<glm::dvec3>(mHit->world) : std::nullopt;
+    }
 
     /// Draws the panel's image for this frame (headsetUi) and returns the buttons clicked.
     /// `hands`: what the controllers are doing, for the status line. `dtS`: seconds since
@@ -77,7 +87,7 @@ class XrPanelUi {
     glm::dmat4 mWorldFromPanel;
     glm::dvec2 mSizeMm;
     UiState mState;
-    std::optional<glm::dvec2> mPointer;
+    std::optional<PanelHit> mHit;
     bool mPressed = false;  // the trigger went down on the panel and is still held
     unsigned mTexture = 0;
 };

@@ -41,6 +41,10 @@ struct ToolDraw {
     /// Depth cue: where the tool's shadow falls on the surface straight below it (world -z).
     bool shadow = false;
     core::Vec3 shadowPos{0.0};
+    /// The pen's pointing ray to where it meets a panel (world mm), drawn by drawEye: the
+    /// headset's pointer (XrPanelUi); the desktop window has the mouse.
+    bool pointer = false;
+    core::Vec3 pointerFrom{0.0}, pointerTo{0.0};
 };
 
 /// Correction for a headset's lenses in side-by-side mode: each eye's image is resampled

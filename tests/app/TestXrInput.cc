@@ -42,6 +42,14 @@ core::SculptConfig config() {
     return cfg;
 }
 
+/// A studio that XrInput drives, wired as the headset session wires it.
+struct XrRig {
+    core::SculptConfig cfg = config();
+    Studio studio{cfg};
+    Interaction ui{studio};
+    XrInput input{cfg.render.xr, ui, studio};
+};
+
 TEST(XrBindings, EveryProfileDrivesBothHands) {
     const auto& table = xrSuggestedBindings();
     std::set<std::string> profiles;
@@ -173,11 +181,9 @@ TEST(XrInput, TriggerStrokeIsTheScriptedStroke) {
 }
 
 TEST(XrInput, GripHoldsTheSculptureAndButtonsFollowTheThesis) {
-    const core::SculptConfig cfg = config();
-    Studio studio(cfg);
+    XrRig rig;
+    auto& [cfg, studio, ui, input] = rig;
     const Session& s = studio.session();
-    Interaction ui(studio);
-    XrInput input(cfg.render.xr, ui, studio);
     XrHands h;
     h.worldFromMouse = glm::translate(glm::dmat4(1.0), glm::dvec3(-100, 0, 0));
     h.grip = true;
@@ -320,11 +326,9 @@ TEST(XrPanel, ThePensRayMeetsThePanelWhereItPoints) {
 }
 
 TEST(XrInput, PanelButtonsDoWhatThePalettesButtonsDo) {
-    const core::SculptConfig cfg = config();
-    Studio studio(cfg);
+    XrRig rig;
+    auto& [cfg, studio, ui, input] = rig;
     const Session& s = studio.session();
-    Interaction ui(studio);
-    XrInput input(cfg.render.xr, ui, studio);
     auto click = [&](const std::string& action) {
         XrHands h;
         h.panelAction = action;
@@ -370,10 +374,8 @@ TEST(XrInput, PanelButtonsDoWhatThePalettesButtonsDo) {
 }
 
 TEST(XrInput, ThumbsticksJumpToSizesAndZoomOncePerPush) {
-    const core::SculptConfig cfg = config();
-    Studio studio(cfg);
-    Interaction ui(studio);
-    XrInput input(cfg.render.xr, ui, studio);
+    XrRig rig;
+    auto& [cfg, studio, ui, input] = rig;
     const Session& s = studio.session();
     std::vector<int> offered = cfg.zoom.allowedSizes[0];
     std::sort(offered.begin(), offered.end());
@@ -424,10 +426,8 @@ TEST(XrInput, ThumbsticksJumpToSizesAndZoomOncePerPush) {
 }
 
 TEST(XrInput, LosingThePenEndsTheStroke) {
-    const core::SculptConfig cfg = config();
-    Studio studio(cfg);
-    Interaction ui(studio);
-    XrInput input(cfg.render.xr, ui, studio);
+    XrRig rig;
+    auto& [cfg, studio, ui, input] = rig;
     XrHands h;
     h.trigger = 1;
     h.worldFromPen = glm::translate(glm::dmat4(1.0), glm::dvec3(0, 0, 29));

@@ -92,6 +92,20 @@ class Xr : public ::testing::Test {
     fs::path mDir;
 };
 
+/// `vsculpt play INPUT` (a script or a recording): its exit code, and its stdout and stderr
+/// in `output`.
+int play(const fs::path& input, std::string& output) {
+    const std::string cmd =
+        std::string(VSCULPT_BINARY) + " play '" + input.string() + "' --no-progress 2>&1";
+    FILE* p = ::popen(cmd.c_str(), "r");
+    if (!p) return -1;
+    char buf[4096];
+    for (size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;)
+        output.append(buf, n);
+    const int status = ::pclose(p);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
 /// The run was validated and nothing was reported: the layer was loaded (it announces its
 /// output), its file is empty, and the app's debug messenger counted no warning or error.
 void expectValidationClean(const XrRun& r) {
@@ -207,15 +221,8 @@ TEST_F(Xr, TriggerStrokeSculptsTheSameMeshAsTheScript) {
     EXPECT_NE(r.output.find(", 1 step(s)"), std::string::npos) << r.output;
 
     const fs::path vscPath = write("stroke.vsc", vsc.str());
-    const std::string cmd =
-        std::string(VSCULPT_BINARY) + " play '" + vscPath.string() + "' --no-progress 2>&1";
-    FILE* p = ::popen(cmd.c_str(), "r");
-    ASSERT_TRUE(p);
     std::string playOut;
-    char buf[4096];
-    for (size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;)
-        playOut.append(buf, n);
-    ASSERT_EQ(::pclose(p), 0) << playOut;
+    ASSERT_EQ(play(vscPath, playOut), 0) << playOut;
     const std::string playHash = match(playOut, "mesh hash ([0-9a-f]{16})");
     ASSERT_FALSE(playHash.empty()) << playOut;
     EXPECT_EQ(xrHash, playHash) << r.output << "\n" << playOut << "\n" << vsc.str();
@@ -309,15 +316,8 @@ TEST_F(Xr, RecordingReplaysToTheSameSculpture) {
     const std::string liveHash = match(r.output, "mesh hash ([0-9a-f]{16})");
     ASSERT_TRUE(fs::exists(rec)) << r.output;
 
-    const std::string cmd =
-        std::string(VSCULPT_BINARY) + " play '" + rec.string() + "' --no-progress 2>&1";
-    FILE* p = ::popen(cmd.c_str(), "r");
-    ASSERT_TRUE(p);
     std::string playOut;
-    char buf[4096];
-    for (size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;)
-        playOut.append(buf, n);
-    ASSERT_EQ(::pclose(p), 0) << playOut;
+    ASSERT_EQ(play(rec, playOut), 0) << playOut;
     EXPECT_EQ(match(playOut, "mesh hash ([0-9a-f]{16})"), liveHash) << r.output << "\n" << playOut;
     EXPECT_NE(playOut.find("xr: "), std::string::npos) << "the device summary:\n" << playOut;
 }
@@ -392,15 +392,8 @@ TEST_F(Xr, ThePenClicksThePanelAndARecordingReplaysTheClick) {
         << "the stroke was not mirrored: the click did not reach the studio";
 
     // The recording holds the click with the hands: the replay mirrors the stroke too.
-    const std::string cmd =
-        std::string(VSCULPT_BINARY) + " play '" + rec.string() + "' --no-progress 2>&1";
-    FILE* p = ::popen(cmd.c_str(), "r");
-    ASSERT_TRUE(p);
     std::string playOut;
-    char buf[4096];
-    for (size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;)
-        playOut.append(buf, n);
-    ASSERT_EQ(::pclose(p), 0) << playOut;
+    ASSERT_EQ(play(rec, playOut), 0) << playOut;
     EXPECT_EQ(match(playOut, "mesh hash ([0-9a-f]{16})"), liveHash) << r.output << "\n" << playOut;
 }
 

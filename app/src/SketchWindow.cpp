@@ -82,7 +82,8 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
     std::unique_ptr<render::Viewer> viewer;
     std::unique_ptr<render::UiLayer> uiLayer;
     try {
-        viewer = std::make_unique<render::Viewer>(o.width, o.height, "vsculpt sketch", !o.hidden);
+        viewer = std::make_unique<render::Viewer>(o.width, o.height, "vsculpt sketch", !o.hidden,
+                                                  cfg.render.msaaSamples);
         if (o.ui) uiLayer = std::make_unique<render::UiLayer>(*viewer);
     } catch (const render::RenderError& e) {
         spdlog::error("no sketch window: {}", e.what());
@@ -107,8 +108,8 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
     std::unique_ptr<render::Viewer> headset;
     if (o.headset) {
         try {
-            headset =
-                std::make_unique<render::Viewer>(1280, 720, "vsculpt sketch — headset", !o.hidden);
+            headset = std::make_unique<render::Viewer>(1280, 720, "vsculpt sketch — headset",
+                                                       !o.hidden, cfg.render.msaaSamples);
             if (cfg.render.fullscreenMonitor >= 0 &&
                 !headset->goFullscreen(cfg.render.fullscreenMonitor))
                 spdlog::warn(

@@ -78,7 +78,12 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
     std::unique_ptr<render::Viewer> viewer;
     std::unique_ptr<render::UiLayer> uiLayer;
     try {
-        viewer = std::make_unique<render::Viewer>(o.width, o.height, "vsculpt", !o.hidden);
+        viewer = std::make_unique<render::Viewer>(o.width, o.height, "vsculpt", !o.hidden,
+                                                  cfg.render.msaaSamples);
+        // Asked for explicitly and not given (auto, 0, says nothing).
+        if (const int got = viewer->windowSamples(); got < cfg.render.msaaSamples)
+            spdlog::info("render.msaa_samples {}: this display offers {}", cfg.render.msaaSamples,
+                         got);
         if (o.ui) uiLayer = std::make_unique<render::UiLayer>(*viewer);
     } catch (const render::RenderError& e) {
         spdlog::warn("no sculpting window: {}", e.what());

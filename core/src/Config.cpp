@@ -507,6 +507,13 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
             rend.fail("render.output", "expected \"window\" or \"xr\", got " + v->dump());
         cfg.render.output = o;
     }
+    if (const json* v = rend.find("msaa_samples")) {
+        if (!(isIntegerIn(*v, 0, 8) &&
+              (v->get<unsigned>() == 0 || std::has_single_bit(v->get<unsigned>()))))
+            rend.fail("render.msaa_samples",
+                      "expected 0 (auto), 1, 2, 4 or 8 (1: off), got " + v->dump());
+        cfg.render.msaaSamples = v->get<int>();
+    }
     Section xr = rend.sub("xr");
     if (const json* v = xr.find("sculpture_in_local_m")) {
         if (!v->is_array() || v->size() != 3 || !(*v)[0].is_number() || !(*v)[1].is_number() ||
@@ -616,6 +623,7 @@ std::string configToJson(const SculptConfig& c) {
                    {"fullscreen_monitor", c.render.fullscreenMonitor},
                    {"ui_depth_mm", c.render.uiDepthMm},
                    {"ui_scale", c.render.uiScale},
+                   {"msaa_samples", c.render.msaaSamples},
                    {"lens",
                     {{"k1", c.render.lensK1},
                      {"k2", c.render.lensK2},
@@ -748,6 +756,9 @@ void validateConfig(const SculptConfig& c) {
               std::has_single_bit(unsigned(x.msaaSamples))))
             fail("render.xr.msaa_samples", "must be 1, 2, 4 or 8 (1: off)");
     }
+    if (!(c.render.msaaSamples >= 0 && c.render.msaaSamples <= 8 &&
+          (c.render.msaaSamples == 0 || std::has_single_bit(unsigned(c.render.msaaSamples)))))
+        fail("render.msaa_samples", "must be 0 (auto), 1, 2, 4 or 8 (1: off)");
     for (const auto& [key, v] : {std::pair{"render.lens.k1", c.render.lensK1},
                                  std::pair{"render.lens.k2", c.render.lensK2}})
         if (!(std::isfinite(v) && std::abs(v) <= 5)) fail(key, "must be in [-5, 5]");

@@ -78,10 +78,12 @@ void ensureGlfw() {
                           "`vsculpt play` for headless sessions");
 }
 
-WindowPtr createWindow(int width, int height, const std::string& title, bool visible) {
+WindowPtr createWindow(int width, int height, const std::string& title, bool visible, int samples) {
     ensureGlfw();
     glfwDefaultWindowHints();
     glfwWindowHint(GLFW_VISIBLE, visible ? GLFW_TRUE : GLFW_FALSE);
+    // A soft constraint: a display without multisampled visuals gives a plain window.
+    glfwWindowHint(GLFW_SAMPLES, samples > 1 ? samples : 0);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);

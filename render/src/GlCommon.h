@@ -33,8 +33,10 @@ struct WindowDeleter {
 };
 using WindowPtr = std::unique_ptr<GLFWwindow, WindowDeleter>;
 
-/// A GL 3.3 core window (hidden unless `visible`).
-WindowPtr createWindow(int width, int height, const std::string& title, bool visible);
+/// A GL 3.3 core window (hidden unless `visible`), its framebuffer multisampled with
+/// `samples` per pixel when the display offers it (1: not).
+WindowPtr createWindow(int width, int height, const std::string& title, bool visible,
+                       int samples = 1);
 
 /// The clay program: attributes 0 position, 1 normal; uniforms clipFromWorld (mat4),
 /// worldFromObject (mat4), eye (vec3, world), tint (vec3, multiplies the grey).

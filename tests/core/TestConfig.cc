@@ -145,6 +145,8 @@ TEST(Config, ReadsTheHeadsetSection) {
     EXPECT_EQ(c.render.xr.hapticTouching, 0.2);
     EXPECT_EQ(c.render.xr.hapticInside, 1);
     EXPECT_EQ(c.render.xr.hapticPulseMs, 11);
+    EXPECT_EQ(SculptConfig{}.render.msaaSamples, 0) << "the window's antialiasing: auto";
+    EXPECT_EQ(parseConfig(R"({"render": {"msaa_samples": 8}})", "m.json").render.msaaSamples, 8);
     EXPECT_EQ(errorOf(R"({"render": {"output": "headset"}})"),
               "test.json: render.output: expected \"window\" or \"xr\", got \"headset\"");
     EXPECT_NE(errorOf(R"({"render": {"xr": {"haptic_inside": 1.5}}})")
@@ -196,6 +198,9 @@ TEST(Config, BadValuesNameTheKeyAndReason) {
          "field.support.scale[4]: must be larger than L_4"},
         {R"({"field": {"support": {"r4_mm": 5, "scale": [0.1, 0.2, 0.3, 1.1, 1.5, 2, 3]}}})",
          "field.support.scale[3]: L_4 must be exactly 1"},
+        {R"({"render": {"msaa_samples": 3}})",
+         "render.msaa_samples: expected 0 (auto), 1, 2, 4 or 8 (1: off), got 3"},
+        {R"({"render": {"msaa_samples": 16}})", "render.msaa_samples: expected 0 (auto)"},
         {R"({"placement": {"mode": "sculpt"}})",
          "placement.mode: expected \"thesis\", \"free\" or \"swept\""},
         {R"({"placement": {"finer_lattice_levels": 3}})",

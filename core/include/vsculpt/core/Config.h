@@ -161,6 +161,10 @@ struct RenderConfig {
     /// plane (screen depth, the same place in both eyes). docs/window.md, "The on-screen UI".
     double uiDepthMm = 0;
     double uiScale = 1;  ///< size of the UI's text and widgets (1: 13 px text)
+    /// Samples per pixel of the desktop window (multisample antialiasing): 1, 2, 4 or 8;
+    /// 1: off; 0: auto (4, but 1 on a software rasterizer). A display that offers fewer gives
+    /// fewer.
+    int msaaSamples = 0;
 };
 
 /// One kind of USB device the device layer opens (configs/sculpt.json "devices.match";

@@ -89,8 +89,12 @@ struct FrameStats {
 class Viewer {
   public:
     /// Opens the window (hidden when `visible` is false, e.g. for tests). Throws RenderError
-    /// when there is no display.
-    Viewer(int width, int height, const std::string& title, bool visible);
+    /// when there is no display. `samples`: the window's samples per pixel (multisample
+    /// antialiasing of what draw() puts in it; render.msaa_samples); 1: none; 0: auto, 4 but
+    /// 1 on a software rasterizer (Mesa's llvmpipe or softpipe). A display that offers fewer
+    /// gives fewer (windowSamples()). The headset's mirror window takes 1: a blit into a
+    /// multisampled window is not allowed.
+    Viewer(int width, int height, const std::string& title, bool visible, int samples = 1);
     ~Viewer();
     Viewer(const Viewer&) = delete;
     Viewer& operator=(const Viewer&) = delete;
@@ -127,6 +131,8 @@ class Viewer {
     /// buffers of the swapchain image's format, then resolved into it); 1: off, the default.
     /// Clamped to what the GL offers (GL_MAX_SAMPLES); returns the number used.
     int setEyeSamples(int samples);
+    /// Samples per pixel of the window's framebuffer (1: not multisampled).
+    int windowSamples() const;
     int eyeSamples() const;
     /// Chunks whose bounds lie wholly outside an eye's view are skipped (on by default; it
     /// changes no pixel, FrameStats counts what was drawn). Off: every chunk is drawn, for

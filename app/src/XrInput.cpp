@@ -242,9 +242,8 @@ void XrInput::handle(const XrHands& h) {
         return;
     }
     const core::Vec3 tool = penToolWorld(*h.worldFromPen, h.trigger, mCfg);
-    // A little hysteresis so a trigger held at the threshold does not chatter.
     const double t = mCfg.triggerThreshold;
-    const bool engaged = mEngaged ? h.trigger >= 0.8 * t : h.trigger >= t;
+    const bool engaged = mEngaged ? h.trigger >= kTriggerRelease * t : h.trigger >= t;
     const bool changed = engaged != mEngaged;
     if (changed) guarded("pen", [&] { mInteraction.setEngaged(engaged); });
     mEngaged = engaged;

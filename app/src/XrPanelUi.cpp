@@ -8,7 +8,6 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>  // mouse button codes only
 
-#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 
 #include <algorithm>
@@ -69,7 +68,7 @@ bool XrPanelUi::point(const XrHands& hands, bool penFree) {
     if (mPressed) {
         // Held since it went down on the panel: the panel's until released, even when the
         // pen has wandered off it meanwhile (ImGui then clicks nothing).
-        if (hands.trigger < 0.8 * t || !hands.worldFromPen) {
+        if (hands.trigger < kTriggerRelease * t || !hands.worldFromPen) {
             button.pressed = false;
             mUi->feed(button);
             mPressed = false;

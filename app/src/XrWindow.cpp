@@ -10,7 +10,6 @@
 #include "vsculpt/devices/Recording.h"
 #include "vsculpt/devices/XrBindings.h"
 #include "vsculpt/devices/XrHeadset.h"
-#include "vsculpt/render/UiLayer.h"
 #include "vsculpt/render/Viewer.h"
 #include "vsculpt/studio/PickTool.h"
 #include "vsculpt/studio/Script.h"
@@ -18,7 +17,6 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>  // key codes only
 
-#include <imgui.h>
 #include <nlohmann/json.hpp>
 
 #include <chrono>

@@ -31,6 +31,10 @@
 
 namespace vsculpt::app {
 
+/// The trigger lets go below this fraction of render.xr.trigger_threshold (it engages at
+/// the threshold): a trigger held at the threshold does not chatter.
+inline constexpr double kTriggerRelease = 0.8;
+
 /// One frame of the controllers in the studio's world: rigid poses in mm (nullopt: not
 /// tracked); buttons as XrControllers (true in the frame they went down).
 struct XrHands {

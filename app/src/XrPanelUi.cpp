@@ -63,6 +63,13 @@ bool XrPanelUi::point(const XrHands& hands, bool penFree) {
         mHit = panelHitAt(*hands.worldFromPen, mWorldFromPanel, mSizeMm, mPanel.widthPx,
                           mPanel.heightPx);
     mUi->setPointer(mHit ? mHit->pixel.x : -1, mHit ? mHit->pixel.y : -1);
+    std::string hovered;
+    if (mHit)
+        for (const auto& [name, r] : mState.rects)
+            if (name.rfind("button:", 0) == 0 && r.contains(mHit->pixel.x, mHit->pixel.y))
+                hovered = name;
+    mEntered = !hovered.empty() && hovered != mHovered;
+    mHovered = std::move(hovered);
     const double t = mCfg.triggerThreshold;
     render::InputEvent button{render::InputEvent::Kind::MouseButton, GLFW_MOUSE_BUTTON_LEFT};
     if (mPressed) {

@@ -30,6 +30,9 @@ using namespace vsculpt::studio;
 
 namespace {
 
+// The haptic tick as the pen's ray comes onto a panel's button.
+constexpr int64_t kButtonTickNs = 10'000'000;
+
 // Clip planes of the headset's eyes, mm: the pen's tool a hand's width away, the room.
 constexpr double kNearMm = 10, kFarMm = 20000;
 
@@ -239,6 +242,10 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
             const double amplitude = xr->focused() ? hapticAmplitude(contact, cfg.render.xr) : 0;
             if (amplitude > 0) {
                 xr->vibrate(float(amplitude), pulseNs);
+                ++pulses;
+            } else if (onPanel && panelUi->enteredButton() && xr->focused()) {
+                // A tick as the pen's ray comes onto a button of the panel.
+                xr->vibrate(float(cfg.render.xr.hapticTouching), kButtonTickNs);
                 ++pulses;
             } else if (vibrating) {
                 xr->stopVibration();

@@ -423,12 +423,15 @@ TEST(XrPanelUi, ThePensTriggerClicksTheButtonItPointsAt) {
     const app::UiRect carve = rects.at("button:carve");
     h.worldFromPen = pointingAt(carve);
     EXPECT_TRUE(panelUi.point(h, true));
+    EXPECT_EQ(panelUi.hoveredButton(), "button:carve");
+    EXPECT_TRUE(panelUi.enteredButton()) << "onto a button: the frame for a haptic tick";
     ASSERT_TRUE(panelUi.pointer());
     EXPECT_NEAR(panelUi.pointer()->x, carve.cx(), 1e-6);
     EXPECT_NEAR(panelUi.pointer()->y, carve.cy(), 1e-6);
     EXPECT_TRUE(frame().empty());  // pointing clicks nothing
     h.trigger = 1;
     EXPECT_TRUE(panelUi.point(h, true));
+    EXPECT_FALSE(panelUi.enteredButton()) << "still on the same button";
     EXPECT_TRUE(frame().empty());  // a button clicks when it is let go, as in the window
     h.trigger = 0.3f;              // under 80 % of the threshold: released
     EXPECT_TRUE(panelUi.point(h, true));

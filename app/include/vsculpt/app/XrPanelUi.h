@@ -66,6 +66,11 @@ class XrPanelUi {
     std::optional<glm::dvec2> pointer() const {
         return mHit ? std::optional<glm::dvec2>(mHit->pixel) : std::nullopt;
     }
+    /// The button under the pen ("button:carve", the key of UiState::rects), or empty.
+    const std::string& hoveredButton() const { return mHovered; }
+    /// The pen came onto a button at the last point() (another one, or from none): the frame
+    /// for a haptic tick, as VR panels give.
+    bool enteredButton() const { return mEntered; }
     /// The same in the world (mm): where the pen's ray, drawn in the eyes, ends.
     std::optional<glm::dvec3> pointerWorld() const {
         return mHit ? std::optional<glm::dvec3>(mHit->world) : std::nullopt;
@@ -89,6 +94,8 @@ class XrPanelUi {
     UiState mState;
     std::optional<PanelHit> mHit;
     bool mPressed = false;  // the trigger went down on the panel and is still held
+    std::string mHovered;   // the button under the pen, from the last frame's layout
+    bool mEntered = false;
     unsigned mTexture = 0;
 };
 

@@ -173,13 +173,14 @@ XrInput::XrInput(const core::XrConfig& cfg, studio::Interaction& interaction,
 
 void XrInput::handle(const XrHands& h) {
     const studio::Session& session = mStudio.session();
-    auto guarded = [](const char* what, auto&& f) {
+    auto guarded = [this](const char* what, auto&& f) {
         try {
             f();
         } catch (const std::logic_error&) {
             throw;  // a broken invariant, not a refused command
         } catch (const std::exception& e) {
             spdlog::warn("{}: {}", what, e.what());
+            mRefusal = std::string(what) + ": " + e.what();
         }
     };
     if (h.undo) guarded("undo", [&] { mStudio.undo(); });

@@ -203,6 +203,7 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
                 recording->write({devices::DeviceEventKind::Report, devices::monotonicNowNs(),
                                   recorded, xrHandsReport(hands)});
             input.handle(hands);
+            if (auto refused = input.takeRefusal()) message = *refused;
             // Trackers and 3D mice keep working beside the controllers.
             rig->pumpDevices();
             if (auto done = rig->pollBackgroundWork()) message = *done;

@@ -126,7 +126,9 @@ struct Viewer::Impl {
 
 Viewer::Viewer(int width, int height, const std::string& title, bool visible, int samples)
     : mImpl(std::make_unique<Impl>()) {
-    mImpl->window = detail::createWindow(width, height, title, visible, samples > 0 ? samples : 4);
+    // Auto (0) opens hidden first: a window recreated for a software rasterizer would flash.
+    mImpl->window = detail::createWindow(width, height, title, visible && samples != 0,
+                                         samples > 0 ? samples : 4);
     if (samples == 0) {
         // Auto: a software rasterizer pays for every sample on the CPU (Mesa's llvmpipe drew a
         // window frame in 31 ms with 4 samples against 11 ms with 1): a plain window there.
@@ -137,6 +139,8 @@ Viewer::Viewer(int width, int height, const std::string& title, bool visible, in
             name.find("Software Rasterizer") != std::string::npos) {
             mImpl->window.reset();
             mImpl->window = detail::createWindow(width, height, title, visible, 1);
+        } else if (visible) {
+            glfwShowWindow(mImpl->window.get());
         }
     }
     {

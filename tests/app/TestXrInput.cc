@@ -373,6 +373,29 @@ TEST(XrInput, PanelButtonsDoWhatThePalettesButtonsDo) {
     EXPECT_EQ(s.tool(), ToolKind::Add);
 }
 
+// What the studio refuses is said once, for the headset's panel to show (the window's status
+// shows its own): in thesis placement the smooth tool has nothing to relax.
+TEST(XrInput, ARefusedCommandIsSaidOnceForThePanel) {
+    core::SculptConfig cfg = config();
+    cfg.placement = core::PlacementMode::Thesis;
+    Studio studio(cfg);
+    Interaction ui(studio);
+    XrInput input(cfg.render.xr, ui, studio);
+    XrHands h;
+    h.panelAction = "tool_smooth";
+    input.handle(h);
+    EXPECT_FALSE(input.takeRefusal()) << "choosing the tool is not refused";
+    h.panelAction.clear();
+    h.worldFromPen = glm::translate(glm::dmat4(1.0), glm::dvec3(0, 0, 30));
+    h.trigger = 1;
+    input.handle(h);
+    const std::optional<std::string> refused = input.takeRefusal();
+    ASSERT_TRUE(refused);
+    EXPECT_NE(refused->find("smooth"), std::string::npos) << *refused;
+    EXPECT_FALSE(input.takeRefusal()) << "said once";
+    EXPECT_EQ(studio.session().sculpture().counts().total(), 1u);
+}
+
 TEST(XrInput, ThumbsticksJumpToSizesAndZoomOncePerPush) {
     XrRig rig;
     auto& [cfg, studio, ui, input] = rig;

@@ -27,6 +27,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace vsculpt::app {
@@ -81,6 +82,9 @@ class XrInput {
     /// Applies one frame. Refused commands (nothing to undo, a sample the lattice cannot
     /// hold) are logged, never thrown.
     void handle(const XrHands& hands);
+    /// The last refused command's message ("undo: nothing to undo"), once: the headset's
+    /// panel shows it, as the window's status shows its own.
+    std::optional<std::string> takeRefusal() { return std::exchange(mRefusal, std::nullopt); }
 
     /// Where the pen put the tool last (world mm); nullopt before the pen was tracked.
     std::optional<core::Vec3> toolWorld() const { return mTool; }
@@ -100,6 +104,7 @@ class XrInput {
     // grabbing does not make the sculpture jump).
     std::optional<core::RigidTransform> mHandFromObject;
     bool mPenStickArmed = true, mMouseStickArmed = true;
+    std::optional<std::string> mRefusal;
 };
 
 }  // namespace vsculpt::app

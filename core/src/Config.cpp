@@ -146,6 +146,11 @@ bool isIntegerIn(const json& v, long long lo, long long hi) {
     return v.is_number_integer() && v.get<long long>() >= lo && v.get<long long>() <= hi;
 }
 
+/// A multisample count: 1, 2, 4 or 8 (1: off), and 0 (auto) where `autoAllowed`.
+bool isSampleCount(long long n, bool autoAllowed) {
+    return (autoAllowed && n == 0) || (n >= 1 && n <= 8 && std::has_single_bit(unsigned(n)));
+}
+
 // USB ids are written either as numbers or as "0x046d" strings.
 int usbId(const Section& sec, const std::string& key, const json& v) {
     long value = -1;
@@ -508,8 +513,7 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
         cfg.render.output = o;
     }
     if (const json* v = rend.find("msaa_samples")) {
-        if (!(isIntegerIn(*v, 0, 8) &&
-              (v->get<unsigned>() == 0 || std::has_single_bit(v->get<unsigned>()))))
+        if (!(isIntegerIn(*v, 0, 8) && isSampleCount(v->get<int>(), true)))
             rend.fail("render.msaa_samples",
                       "expected 0 (auto), 1, 2, 4 or 8 (1: off), got " + v->dump());
         cfg.render.msaaSamples = v->get<int>();
@@ -530,7 +534,7 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
     xr.number("haptic_inside", cfg.render.xr.hapticInside);
     xr.number("haptic_pulse_ms", cfg.render.xr.hapticPulseMs);
     if (const json* v = xr.find("msaa_samples")) {
-        if (!(isIntegerIn(*v, 1, 8) && std::has_single_bit(v->get<unsigned>())))
+        if (!(isIntegerIn(*v, 1, 8) && isSampleCount(v->get<int>(), false)))
             xr.fail("render.xr.msaa_samples", "expected 1, 2, 4 or 8 (1: off), got " + v->dump());
         cfg.render.xr.msaaSamples = v->get<int>();
     }
@@ -752,12 +756,10 @@ void validateConfig(const SculptConfig& c) {
             if (!(v >= 0 && v <= 1)) fail(key, "must be in [0, 1] (0: no pulse)");
         if (!(x.hapticPulseMs > 0 && x.hapticPulseMs <= 1000))
             fail("render.xr.haptic_pulse_ms", "must be in (0, 1000] ms");
-        if (!(x.msaaSamples >= 1 && x.msaaSamples <= 8 &&
-              std::has_single_bit(unsigned(x.msaaSamples))))
+        if (!isSampleCount(x.msaaSamples, false))
             fail("render.xr.msaa_samples", "must be 1, 2, 4 or 8 (1: off)");
     }
-    if (!(c.render.msaaSamples >= 0 && c.render.msaaSamples <= 8 &&
-          (c.render.msaaSamples == 0 || std::has_single_bit(unsigned(c.render.msaaSamples)))))
+    if (!isSampleCount(c.render.msaaSamples, true))
         fail("render.msaa_samples", "must be 0 (auto), 1, 2, 4 or 8 (1: off)");
     for (const auto& [key, v] : {std::pair{"render.lens.k1", c.render.lensK1},
                                  std::pair{"render.lens.k2", c.render.lensK2}})

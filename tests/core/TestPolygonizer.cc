@@ -131,6 +131,34 @@ TEST(Polygonizer, SphereIsClosedAccurateAndConverges) {
     }
 }
 
+TEST(Polygonizer, EdgeVerticesKeepClearOfTheGridVertices) {
+    // A sphere whose surface passes 1e-7 mm outside a grid vertex: the roots on the edges
+    // around that vertex lie fractions of a micron from it, where a sheet or crevice of the
+    // same kind would be too thin for any ray to tell its faces apart (the RayTrace tests).
+    // Every vertex keeps a twentieth of the root tolerance from the grid vertices; the mesh
+    // stays closed and the vertices stay within the tolerance of the surface.
+    const double spacing = 1.0, tol = 0.01;
+    SculptConfig cfg = emptyConfig(PlacementMode::Free);
+    cfg.sphereRadiusMm = 10 * spacing + 1e-7;
+    const Sculpture s(cfg);
+    FieldProbe probe(s);
+    ASSERT_GT(probe.value(Vec3(10 * spacing, 0, 0)), 0);  // the grid vertex is inside, barely
+    ASSERT_LT(probe.value(Vec3(10 * spacing + 1e-6, 0, 0)), 0);
+    Polygonizer poly(s, regionAround(Vec3(0.0), spacing, 32), tol);
+    poly.rebuildAll();
+    const Mesh m = poly.mesh();
+    ASSERT_TRUE(analyzeTopology(m).watertight());
+    const double inset = 0.05 * tol * spacing;
+    double nearest = 1e300;
+    for (const Vec3& p : m.positions) {
+        const Vec3 g = glm::round(p / spacing) * spacing;
+        nearest = std::min(nearest, glm::length(p - g));
+        EXPECT_LT(std::abs(probe.value(p)) / glm::length(probe.sample(p).gradient), tol * spacing);
+    }
+    EXPECT_GE(nearest, inset * (1 - 1e-9));
+    EXPECT_LT(nearest, 2 * inset);  // the vertex beside (10, 0, 0) is held at the inset
+}
+
 TEST(Polygonizer, LocalFieldEqualsTheProbeBitForBit) {
     SculptConfig cfg = emptyConfig(PlacementMode::Free);
     cfg.sphereRadiusMm = 15;

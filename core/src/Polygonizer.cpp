@@ -27,13 +27,12 @@ constexpr int kMaxRootSteps = 40;
 /// (by up to 8 %, measured on sculpted clay): roots stop at this fraction of the tolerance.
 constexpr double kFirstOrderMargin = 0.9;
 /// Edge vertices keep at least this fraction of the root tolerance from the edge's grid
-/// vertices. Where the surface passes within a hair of a grid vertex, the roots on the edges
-/// around it otherwise sit fractions of a micron apart: a grid value a hair above zero with
-/// its neighbours below gives a sheet of clay 0.1 µm thick on the grid plane (measured: a
-/// ray test stepping 1e-4 mm past each hit went through one), a crevice a hair below zero
-/// the like. The inset keeps such sheets and crevices thick enough for any ray's step
-/// (docs/polygonizer.md), moves no vertex by more than this fraction of the tolerance, and
-/// changes no topology: the vertex stays on its edge, inside the same tetrahedra.
+/// vertices. Where the surface passes a hair from a grid vertex, the roots on the edges around
+/// it would lie that hair from it and from each other: triangles with edges of a fraction of a
+/// micron (1e-7 mm for a grid value 1e-7 above zero), which tools that weld close vertices
+/// (slicers, mesh repair) collapse into non-manifold edges. The vertex stays on its edge, so in
+/// the same tetrahedra: no topology changes, no cracks; it moves by at most this fraction of
+/// the tolerance, within the bound the roots keep (docs/polygonizer.md).
 constexpr double kVertexInsetOverTolerance = 0.05;
 
 /// body(i) for i in [begin, end): on `pool` (or oneTBB) in ranges of at least `grain` when

@@ -72,45 +72,90 @@ core::Mesh carvedRingMesh() {
     return poly.mesh();
 }
 
+// Whether a face of the given facing crosses the ray within [t0, t1], by an exact test in
+// double precision over every triangle (a few rays only: see below).
+bool exactCrossingWithin(const core::Mesh& mesh, const Vec3& origin, const Vec3& dir, double t0,
+                         double t1, bool front) {
+    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const Vec3 a = mesh.positions[mesh.indices[3 * t]],
+                   b = mesh.positions[mesh.indices[3 * t + 1]],
+                   c = mesh.positions[mesh.indices[3 * t + 2]];
+        const Vec3 n = glm::cross(b - a, c - a);
+        const double along = glm::dot(n, dir);
+        if (along == 0 || (along < 0) != front) continue;
+        const double tHit = glm::dot(n, a - origin) / along;
+        if (tHit < t0 || tHit > t1) continue;
+        const Vec3 p = origin + tHit * dir;
+        // Inside (or on the edges of) the triangle: the same side of all three edges.
+        const double ea = glm::dot(glm::cross(b - a, p - a), n),
+                     eb = glm::dot(glm::cross(c - b, p - b), n),
+                     ec = glm::dot(glm::cross(a - c, p - c), n);
+        if (ea >= 0 && eb >= 0 && ec >= 0) return true;
+    }
+    return false;
+}
+
 TEST(RayTrace, RaysNeverSlipThroughAClosedMesh) {
     // Along any ray a closed, outward-oriented surface is entered and left in turn: front
     // face, back face, front, back ... and the ray ends outside. A ray that slips through a
     // shared edge breaks the alternation; in a still it shows the inside of the far wall or
     // the background: the dark speckles of issue #13 (Embree without its robust mode: 2 of
     // these 400 000 rays).
+    // Each hit is followed by a step of 1e-4 mm, so that the triangle beside a shared edge
+    // the ray went through is not counted twice. A ray that passes within about that distance
+    // of a ridge (any edge where the surface turns) enters and leaves within the step; the
+    // step skips the second face, and the alternation breaks though Embree missed nothing
+    // (one ray of these, 0.1 µm beside a ridge on the grid plane z = 2.8125). So where the
+    // alternation breaks, an exact search of every triangle decides: a face of the facing
+    // expected within the step after the last hit is such a ridge (counted, and the ray goes
+    // on); none is a ray that slipped through.
     const core::Mesh mesh = carvedRingMesh();
     ASSERT_TRUE(core::analyzeTopology(mesh).watertight());
     const RayScene scene(mesh);
     std::mt19937 rng(7);
     std::normal_distribution<double> n01;
-    int broken = 0;
+    constexpr double kStep = 1e-4;
+    int broken = 0, ridges = 0;
     long crossings = 0;
     for (int k = 0; k < 400000; ++k) {
         const Vec3 dir = glm::normalize(Vec3(n01(rng), n01(rng), n01(rng)));
         const Vec3 aim(20 * n01(rng), 20 * n01(rng), 20 * n01(rng));
         const Vec3 origin = aim - dir * 200.0;
         bool expectFront = true, ok = true;
-        double t = 0;
+        double t = 0, lastHit = 0;
         for (int n = 0; n < 64; ++n) {
             const auto hit = scene.intersect(origin, dir, t);
-            if (!hit) break;
-            const uint32_t tri = hit->triangle;
-            const Vec3 a = mesh.positions[mesh.indices[3 * tri]],
-                       b = mesh.positions[mesh.indices[3 * tri + 1]],
-                       c = mesh.positions[mesh.indices[3 * tri + 2]];
-            const bool front = glm::dot(glm::cross(b - a, c - a), dir) < 0;
-            if (front != expectFront) {
-                ok = false;
-                break;
+            bool front = false;
+            if (hit) {
+                const uint32_t tri = hit->triangle;
+                const Vec3 a = mesh.positions[mesh.indices[3 * tri]],
+                           b = mesh.positions[mesh.indices[3 * tri + 1]],
+                           c = mesh.positions[mesh.indices[3 * tri + 2]];
+                front = glm::dot(glm::cross(b - a, c - a), dir) < 0;
             }
+            if ((hit && front != expectFront) || (!hit && !expectFront)) {
+                // Skipped by the step past the last hit (a ridge), or slipped through?
+                if (n > 0 &&
+                    exactCrossingWithin(mesh, origin, dir, lastHit, lastHit + kStep, expectFront)) {
+                    ++ridges;
+                    ++crossings;
+                    expectFront = !expectFront;
+                } else {
+                    ok = false;
+                    break;
+                }
+            }
+            if (!hit) break;
             expectFront = !expectFront;
-            t = hit->t + 1e-4;
+            lastHit = hit->t;
+            t = hit->t + kStep;
             ++crossings;
         }
         broken += !(ok && expectFront);
     }
     EXPECT_GT(crossings, 300000);  // the rays do cross the sculpture
     EXPECT_EQ(broken, 0);
+    EXPECT_LE(ridges, 4);  // rare: a ray within about 1e-4 mm of a ridge
 }
 
 TEST(RayTrace, SilhouettesAreAntialiased) {

@@ -130,7 +130,7 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
             // tools), unless the user names another.
             const auto stored = recording->meta.find("config");
             if (o.configPath.empty() && stored != recording->meta.end())
-                cfg = parseConfig(stored->second, o.script + " (recorded config)");
+                cfg = parseStoredConfig(stored->second, o.script + " (recorded config)");
             else
                 cfg = loadConfig(o.configPath.empty() ? defaultConfigPath()
                                                       : std::filesystem::path(o.configPath));

@@ -57,9 +57,15 @@ void printSummary(const core::Sculpture& s, std::ostream& out) {
         const core::Vec3 onSurface = center + core::Vec3(cfg.sphereRadiusMm, 0, 0);
         out << fmt(
             "initial sphere: radius %.3f mm at (%.3f, %.3f, %.3f); f(center) = %.4f, "
-            "f(surface point) = %.2e\n",
+            "f(surface point) = %.2e, slope there %.4f per mm\n",
             cfg.sphereRadiusMm, center.x, center.y, center.z, probe.value(center),
-            probe.value(onSurface));
+            probe.value(onSurface), glm::length(probe.sample(onSurface).gradient));
+        if (cfg.sphereCoreWeight > 0)
+            out << fmt("  steep core: weight %.3g, support %.3f mm (%.3g x the radius)\n",
+                       cfg.sphereCoreWeight, cfg.sphereCoreSupportOverRadius * cfg.sphereRadiusMm,
+                       cfg.sphereCoreSupportOverRadius);
+        else
+            out << "  no steep core (initial_sphere.core_weight 0: one point skeleton)\n";
     } else {
         out << "initial shape: empty space\n";
     }

@@ -390,7 +390,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         r.mirror = s.mirror();
         r.size = s.size();
         r.zoom = s.zoom();
-        r.skeletons = s.sculpture().counts().total();
+        r.skeletons = s.sculpture().counts().lattice;
         r.steps = rig->studio().stepCount();
         r.message = message;
         r.ui = uiState;

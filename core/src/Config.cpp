@@ -314,7 +314,10 @@ const std::vector<DeviceMatchConfig>& knownDeviceMatches() {
     return known;
 }
 
-SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceName) {
+namespace {
+
+SculptConfig parseConfigText(std::string_view jsonText, const std::string& sourceName,
+                             bool stored) {
     if (const auto deep = jsonNestingBeyond(jsonText)) throw ConfigError(sourceName + ":" + *deep);
     json root;
     try {
@@ -402,6 +405,9 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
     Section sphere = top.sub("initial_sphere");
     sphere.number("radius_mm", cfg.sphereRadiusMm);
     sphere.vec3("center_mm", cfg.sphereCenterMm);
+    if (stored && !sphere.find("core_weight")) cfg.sphereCoreWeight = 0;
+    sphere.number("core_weight", cfg.sphereCoreWeight);
+    sphere.number("core_support_over_radius", cfg.sphereCoreSupportOverRadius);
     sphere.rejectUnknown();
 
     Section zoom = top.sub("zoom");
@@ -548,6 +554,16 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
     return cfg;
 }
 
+}  // namespace
+
+SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceName) {
+    return parseConfigText(jsonText, sourceName, false);
+}
+
+SculptConfig parseStoredConfig(std::string_view jsonText, const std::string& sourceName) {
+    return parseConfigText(jsonText, sourceName, true);
+}
+
 SculptConfig loadConfig(const std::filesystem::path& path) {
     if (path.empty()) return SculptConfig{};  // source: "built-in defaults"
     std::error_code ec;
@@ -605,7 +621,9 @@ std::string configToJson(const SculptConfig& c) {
                       {"finer_lattice_levels", c.finerLatticeLevels}};
     j["initial_sphere"] = {
         {"radius_mm", c.sphereRadiusMm},
-        {"center_mm", {c.sphereCenterMm.x, c.sphereCenterMm.y, c.sphereCenterMm.z}}};
+        {"center_mm", {c.sphereCenterMm.x, c.sphereCenterMm.y, c.sphereCenterMm.z}},
+        {"core_weight", c.sphereCoreWeight},
+        {"core_support_over_radius", c.sphereCoreSupportOverRadius}};
     j["zoom"] = {{"levels", kZoomLevels},
                  {"base_spacing_over_d6", c.zoom.baseSpacingOverD6},
                  {"allowed_sizes", c.zoom.allowedSizes}};
@@ -720,6 +738,23 @@ void validateConfig(const SculptConfig& c) {
         fail("initial_sphere.radius_mm", "must be >= 0 mm (0: start empty) and <= 1e5");
     if (!isUsablePoint(c.sphereCenterMm))
         fail("initial_sphere.center_mm", "must be finite and within 1e6 mm of the origin");
+    if (!(std::isfinite(c.sphereCoreWeight) && c.sphereCoreWeight >= 0 && c.sphereCoreWeight <= 10))
+        fail("initial_sphere.core_weight",
+             "must be >= 0 (0: no core) and <= 10 (got " + num(c.sphereCoreWeight) + ")");
+    if (!(std::isfinite(c.sphereCoreSupportOverRadius) && c.sphereCoreSupportOverRadius >= 1 &&
+          c.sphereCoreSupportOverRadius <= 4))
+        fail("initial_sphere.core_support_over_radius",
+             "must be in [1, 4] (got " + num(c.sphereCoreSupportOverRadius) + ")");
+    if (c.sphereRadiusMm > 0 && c.sphereCoreWeight > 0) {
+        // The outer skeleton must still bring the field up to the iso-level at the radius.
+        const double coreAtSurface =
+            c.sphereCoreWeight * HermiteFalloff(c.falloff).value(1 / c.sphereCoreSupportOverRadius);
+        if (!(coreAtSurface < 0.9 * c.iso))
+            fail("initial_sphere.core_weight",
+                 "the core alone gives " + num(coreAtSurface) +
+                     " at the sphere's surface (support " + num(c.sphereCoreSupportOverRadius) +
+                     " x the radius), more than 0.9 x field.iso; lower the weight or the support");
+    }
     if (!(std::isfinite(c.zoom.baseSpacingOverD6) && c.zoom.baseSpacingOverD6 > 0 &&
           c.zoom.baseSpacingOverD6 <= 2))
         fail("zoom.base_spacing_over_d6",

@@ -38,9 +38,16 @@ Sculpture::Sculpture(const SculptConfig& cfg) : mConfig(cfg) {
     validateConfig(mConfig);
     mLevels = toolLevelsFor(mConfig);
     if (mConfig.sphereRadiusMm > 0) {
-        // One point skeleton whose iso-surface is the sphere: F(r / R) = c  =>  R = r / u_c.
-        const double uIso = mLevels->falloff().inverse(mLevels->iso());
-        addPointSkeleton(PointSkeleton{mConfig.sphereCenterMm, mConfig.sphereRadiusMm / uIso, 1.0});
+        // A point skeleton whose iso-surface is the sphere, F(r / R) = c - core(r), and the
+        // steep core of support a r and weight w: core(r) = w F(1 / a) (validateConfig keeps it
+        // below c). Without a core R = r / u_c.
+        const HermiteFalloff& F = mLevels->falloff();
+        const double r = mConfig.sphereRadiusMm;
+        const double w = mConfig.sphereCoreWeight, a = mConfig.sphereCoreSupportOverRadius;
+        const double coreAtSurface = w > 0 ? w * F.value(1 / a) : 0.0;
+        const double uOuter = F.inverse(mLevels->iso() - coreAtSurface);
+        addPointSkeleton(PointSkeleton{mConfig.sphereCenterMm, r / uOuter, 1.0});
+        if (w > 0) addPointSkeleton(PointSkeleton{mConfig.sphereCenterMm, a * r, w});
     }
 }
 

@@ -104,7 +104,8 @@ std::unique_ptr<Session> Session::openProject(const std::filesystem::path& dir,
         SnapshotContents& c = *found.snapshot;
         SculptConfig stored;
         try {
-            stored = parseConfig(c.configJson, snapshotPath(dir).string() + " (stored config)");
+            stored =
+                parseStoredConfig(c.configJson, snapshotPath(dir).string() + " (stored config)");
         } catch (const ConfigError& e) {
             throw ProjectError(e.what());
         }

@@ -173,10 +173,11 @@ TEST(SketchWindow, MouseDrawingAndKeysMakeASolid) {
     o.devices = false;
     std::vector<std::pair<size_t, E>> ev;
     size_t f = 2;
-    // A loop of radius 100 px around the canvas centre (320, 360): 25 mm at 4 px/mm.
+    // A loop of radius 200 px around the canvas centre (320, 360): 50 mm at 4 px/mm, so its
+    // solid reaches out of the initial sphere (radius 40; a solid inside clay adds nothing).
     auto at = [](int i) {
         const double a = 2 * M_PI * i / 64;
-        return std::make_pair(320 + 100 * std::cos(a), 360 + 100 * std::sin(a));
+        return std::make_pair(320 + 200 * std::cos(a), 360 + 200 * std::sin(a));
     };
     ev.push_back({f++, E{E::Kind::Cursor, 0, false, at(0).first, at(0).second}});
     ev.push_back({f++, E{E::Kind::MouseButton, GLFW_MOUSE_BUTTON_LEFT, true, 0, 0}});

@@ -131,6 +131,32 @@ TEST(Config, AnOldBisectionBracketBecomesTheRootTolerance) {
     EXPECT_EQ(parseConfig(configToJson(view), "back.json").polygonizer.viewRootTolerance, 0.05);
 }
 
+// A stored config (a project's, a recording's) lists every key of the version that wrote it:
+// one without the steep core's keys was written before the core, and replays with the
+// one-skeleton sphere it was made with. A user's config without them gets the core.
+TEST(Config, AStoredConfigWithoutTheSpheresCoreKeepsTheOneSkeletonSphere) {
+    const SculptConfig def;
+    EXPECT_EQ(def.sphereCoreWeight, 1.0);
+    const std::string old = R"({"initial_sphere": {"radius_mm": 30, "center_mm": [0, 0, 0]}})";
+    EXPECT_EQ(parseStoredConfig(old, "p/snapshot (stored config)").sphereCoreWeight, 0.0);
+    EXPECT_EQ(parseConfig(old, "user.json").sphereCoreWeight, 1.0);
+    EXPECT_EQ(parseStoredConfig("{}", "p/snapshot (stored config)").sphereCoreWeight, 0.0);
+    // Written now: the keys travel and come back as they were, whichever way it is read.
+    SculptConfig c;
+    c.sphereCoreWeight = 0.7;
+    c.sphereCoreSupportOverRadius = 1.3;
+    for (const SculptConfig& back :
+         {parseStoredConfig(configToJson(c), "stored"), parseConfig(configToJson(c), "user")}) {
+        EXPECT_EQ(back.sphereCoreWeight, 0.7);
+        EXPECT_EQ(back.sphereCoreSupportOverRadius, 1.3);
+    }
+    c.sphereCoreWeight = 0;
+    EXPECT_EQ(parseConfig(configToJson(c), "user").sphereCoreWeight, 0.0);
+    // Errors in a stored config name it like any other.
+    EXPECT_THROW(parseStoredConfig(R"({"initial_sphere": {"core_weight": "x"}})", "s"),
+                 ConfigError);
+}
+
 TEST(Config, ReadsTheHeadsetSection) {
     const SculptConfig c = parseConfig(R"({"render": {"output": "xr", "xr": {
         "sculpture_in_local_m": [0.1, -0.3, -0.6], "pen_tip_mm": 25, "trigger_threshold": 0.3,
@@ -203,6 +229,13 @@ TEST(Config, BadValuesNameTheKeyAndReason) {
         {R"({"render": {"msaa_samples": 16}})", "render.msaa_samples: expected 0 (auto)"},
         {R"({"placement": {"mode": "sculpt"}})",
          "placement.mode: expected \"thesis\", \"free\" or \"swept\""},
+        {R"({"initial_sphere": {"core_weight": -1}})",
+         "initial_sphere.core_weight: must be >= 0 (0: no core) and <= 10 (got -1)"},
+        {R"({"initial_sphere": {"core_support_over_radius": 0.5}})",
+         "initial_sphere.core_support_over_radius: must be in [1, 4] (got 0.5)"},
+        // A core that alone reaches the iso-level at the radius leaves no surface to solve for.
+        {R"({"initial_sphere": {"core_weight": 5, "core_support_over_radius": 2}})",
+         "initial_sphere.core_weight: the core alone gives"},
         {R"({"placement": {"finer_lattice_levels": 3}})",
          "placement.finer_lattice_levels: expected an integer 0..2, got 3"},
         {R"({"placement": {"finer_lattice_levels": 1.5}})",

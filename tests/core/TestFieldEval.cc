@@ -101,24 +101,49 @@ TEST(FieldEval, BatchFromManyThreadsEqualsSinglePoint) {
 }
 
 TEST(FieldEval, InitialSphereIsExact) {
-    SculptConfig cfg = emptyConfig(PlacementMode::Free);
-    cfg.sphereRadiusMm = 40;
-    cfg.sphereCenterMm = Vec3(5, -3, 2);
-    const Sculpture s(cfg);
-    FieldProbe probe(s);
-    EXPECT_NEAR(probe.value(cfg.sphereCenterMm), cfg.falloff.f0 - cfg.iso, 1e-12);
-    std::mt19937 rng(1);
-    std::normal_distribution<double> N(0, 1);
-    for (int i = 0; i < 100; ++i) {
-        const Vec3 dir = glm::normalize(Vec3(N(rng), N(rng), N(rng)));
-        EXPECT_NEAR(probe.value(cfg.sphereCenterMm + 40.0 * dir), 0.0, 1e-12);
-        EXPECT_GT(probe.value(cfg.sphereCenterMm + 39.9 * dir), 0.0);
-        EXPECT_LT(probe.value(cfg.sphereCenterMm + 40.1 * dir), 0.0);
-        // Outward normal: the gradient points inward (f decreases outward).
-        EXPECT_LT(glm::dot(probe.sample(cfg.sphereCenterMm + 40.0 * dir).gradient, dir), 0);
+    // The one-skeleton sphere of older projects (core weight 0), the default steep core and
+    // another core: the surface lies at the radius either way; the core adds its weight at the
+    // centre and steepens the surface by its own slope there.
+    double plainSlope = 0;
+    for (double coreWeight : {0.0, 1.0, 0.5}) {
+        SCOPED_TRACE("core weight " + std::to_string(coreWeight));
+        SculptConfig cfg = emptyConfig(PlacementMode::Free);
+        cfg.sphereRadiusMm = 40;
+        cfg.sphereCenterMm = Vec3(5, -3, 2);
+        cfg.sphereCoreWeight = coreWeight;
+        const Sculpture s(cfg);
+        FieldProbe probe(s);
+        EXPECT_NEAR(probe.value(cfg.sphereCenterMm), cfg.falloff.f0 * (1 + coreWeight) - cfg.iso,
+                    1e-12);
+        const HermiteFalloff F(cfg.falloff);
+        const double a = cfg.sphereCoreSupportOverRadius;
+        const double coreSlope = -coreWeight * F.derivative(1 / a) / (a * 40);
+        std::mt19937 rng(1);
+        std::normal_distribution<double> N(0, 1);
+        for (int i = 0; i < 100; ++i) {
+            const Vec3 dir = glm::normalize(Vec3(N(rng), N(rng), N(rng)));
+            EXPECT_NEAR(probe.value(cfg.sphereCenterMm + 40.0 * dir), 0.0, 1e-12);
+            EXPECT_GT(probe.value(cfg.sphereCenterMm + 39.9 * dir), 0.0);
+            EXPECT_LT(probe.value(cfg.sphereCenterMm + 40.1 * dir), 0.0);
+            // Outward normal: the gradient points inward (f decreases outward).
+            const Vec3 g = probe.sample(cfg.sphereCenterMm + 40.0 * dir).gradient;
+            EXPECT_LT(glm::dot(g, dir), 0);
+            if (coreWeight == 0) {
+                plainSlope = glm::length(g);
+            } else {
+                // The outer skeleton's support grows a little (its value at the surface is
+                // c - core), so its slope there is within 20 % of the plain sphere's.
+                EXPECT_GT(glm::length(g), coreSlope + 0.8 * plainSlope);
+                EXPECT_LT(glm::length(g), coreSlope + 1.2 * plainSlope);
+            }
+        }
+        if (coreWeight == 1.0)  // the default: 1.8x the plain sphere's slope
+            EXPECT_NEAR(glm::length(probe.sample(cfg.sphereCenterMm + Vec3(40, 0, 0)).gradient) /
+                            plainSlope,
+                        1.84, 0.02);
+        EXPECT_EQ(probe.value(Vec3(1000, 0, 0)), -cfg.iso);
+        EXPECT_EQ(s.counts().total(), coreWeight > 0 ? 2u : 1u);
     }
-    EXPECT_EQ(probe.value(Vec3(1000, 0, 0)), -cfg.iso);
-    EXPECT_EQ(s.counts().total(), 1u);
 }
 
 TEST(FieldEval, EditsAfterTheProbeWasMadeAreSeen) {

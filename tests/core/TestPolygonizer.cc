@@ -425,8 +425,10 @@ TEST(Polygonizer, BlocksWithoutACrossingKeepNoSums) {
     const int level = 3;
     const double h = s.levels().level(level).spacingMm;
     const double support = s.levels().level(level).supportMm;
-    s.store().set(level, LatticeCoord{0, 0, 0}, 0.4f);
-    s.store().set(level, LatticeCoord{1, 0, 0}, -0.4f);
+    // Larger than the field of the sphere's core at the block's far corner less the iso-level
+    // (0.95), so the block's bounds admit a surface.
+    s.store().set(level, LatticeCoord{0, 0, 0}, 1.2f);
+    s.store().set(level, LatticeCoord{1, 0, 0}, -1.2f);
     n.note();
     const PolygonizeStats all = kept.update(n.region.box());
     ASSERT_EQ(kept.verifyAgainstFullRebuild(), "");

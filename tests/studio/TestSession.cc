@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/studio/Session.h"
 
+#include "vsculpt/core/Project.h"
+
 #include "../TestFiles.h"
 #include "../TestFixtures.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -349,6 +352,39 @@ TEST(Session, AProjectKeepsTheLatticeItsStrokesWerePlacedOn) {
     s->sculpture().store().forEach(
         [&](const core::SkeletonEntry& e) { highest = std::max(highest, e.level); });
     EXPECT_EQ(highest, 5);
+}
+
+TEST(Session, AProjectMadeBeforeTheSpheresCoreKeepsItsOneSkeletonSphere) {
+    // A project written before initial_sphere.core_weight existed (its stored config lacks the
+    // key; emulated by rewriting the start snapshot without it): reopened with today's default
+    // config, it keeps the one-skeleton sphere and its journal replays to the same mesh. A
+    // project made today stores the core and keeps it.
+    TempDir dir;
+    core::SculptConfig made = smallConfig();
+    made.sphereCoreWeight = 0;
+    ASSERT_GT(core::SculptConfig{}.sphereCoreWeight, 0);
+    uint64_t end = 0;
+    {
+        auto s = Session::openProject(dir.path, made);
+        sculptSome(*s, 4, 7);
+        end = viewHash(*s);
+    }
+    nlohmann::json stored = nlohmann::json::parse(core::configToJson(made));
+    stored["initial_sphere"].erase("core_weight");
+    stored["initial_sphere"].erase("core_support_over_radius");
+    core::writeProjectSnapshot(dir.path, stored.dump(), 0, core::Sculpture(made), core::History{});
+    {
+        auto s = Session::openProject(dir.path, core::SculptConfig{});
+        EXPECT_EQ(s->sculpture().config().sphereCoreWeight, 0.0);
+        EXPECT_EQ(s->sculpture().counts().point, 1u);
+        EXPECT_EQ(s->recoveredEdits(), 4u);
+        EXPECT_EQ(viewHash(*s), end);
+    }
+    TempDir today;
+    { Session::openProject(today.path, smallConfig()); }
+    auto s = Session::openProject(today.path, made);  // the project's config wins
+    EXPECT_EQ(s->sculpture().config().sphereCoreWeight, smallConfig().sphereCoreWeight);
+    EXPECT_EQ(s->sculpture().counts().point, 2u);
 }
 
 TEST(Session, DamagedJournalTailIsDroppedAndReported) {

@@ -61,6 +61,15 @@ constexpr double kDeadBand = 0.02;
 // correction sits at its bottom and the smooth tool's roughness test on dabbed clay fails:
 // -11 % per pass instead of -15 %); depths are as good (docs/placement.md).
 constexpr double kFitShareWidth = 2.5;
+// A carve's shares narrow to the transfer's own width where the old clay is flat: there the
+// wide spread moves the surface beyond the tool by millimetres (an error of 0.01 in a field
+// sloping 0.005 per mm is 2 mm), while steep fresh clay needs the wide spread for its shallow
+// grooves' depth. Flatness is g = |grad f| at the control point / a fresh stroke's slope at the
+// tool: 0.04-0.40 on the initial sphere (sizes 1-7), 0.02-0.15 on worked clay (5th-95th
+// percentile). Width 1 up to g = 0.15, kFitShareWidth from 0.25, linear between
+// (docs/placement.md "Each stroke of a worked detail").
+constexpr double kFlatCarveShareWidth = 1.0;
+constexpr double kFlatCarveBelow = 0.15, kSteepCarveAbove = 0.25;
 // The fit applies where the old surface lies within this many tool radii of the control point
 // (a bump's top is at most 2 radii above it, a groove's bottom 1.4 at the deepest).
 // At 3, an add along a carved ring (RayTrace.RaysNeverSlipThroughAClosedMesh's scene) left a
@@ -597,7 +606,14 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
                 return;
             }
         }
-        t.share = std::max(0.0, (*mTransfer)((*t.aim - pos) / (tl.spacingMm * kFitShareWidth)));
+        double width = kFitShareWidth;
+        if (mOp == ToolOp::Carve) {
+            const double g = t.controlGrad / slopeAtTool;
+            const double steep =
+                std::clamp((g - kFlatCarveBelow) / (kSteepCarveAbove - kFlatCarveBelow), 0.0, 1.0);
+            width = kFlatCarveShareWidth + steep * (kFitShareWidth - kFlatCarveShareWidth);
+        }
+        t.share = std::max(0.0, (*mTransfer)((*t.aim - pos) / (tl.spacingMm * width)));
     };
 
     std::vector<LatticeCoord> touched;  // new, or their closest approach changed

@@ -737,7 +737,10 @@ TEST(CarveDepth, AnAddOverACarvedTunnelFillsItsTool) {
 }
 
 TEST(CarveDepth, SpinesStartingInsideClayJoinIt) {
-    for (unsigned seed : {13u, 14u, 15u}) {
+    // Seeds 4, 35 and 38 trapped a void between the spines and the one-skeleton sphere's flat
+    // field; with its steep core (initial_sphere.core_weight) only seed 14's remains, of seeds
+    // 1-40 (CarveDepth.PrintSpineSeeds).
+    for (unsigned seed : {4u, 13u, 14u, 15u, 35u, 38u}) {
         const Forest f = spineForest(seed);
         EXPECT_GT(f.minAxisField, 0.0) << "seed " << seed;
         EXPECT_TRUE(f.watertight) << "seed " << seed;

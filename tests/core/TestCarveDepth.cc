@@ -515,8 +515,14 @@ TEST(CarveDepth, ADabHasTheToolsSize) {
         EXPECT_NEAR(st.mean(), 1.0, 0.02) << "size " << k;
         EXPECT_GE(st.min, 0.95) << "size " << k;
         EXPECT_LE(st.max, 1.05) << "size " << k;
-        EXPECT_GE(dabPit(k), 0.95) << "size " << k;
-        EXPECT_LE(dabPit(k), 1.05) << "size " << k;
+    }
+    // A carve dab's pit in the initial sphere is not scale-free (the sphere has one size):
+    // every size (size 7, the deepest, is the tightest: 0.952 with the sphere's steep core,
+    // 0.959 without, 0.947 with a core of weight 1 and support 1.15 r).
+    for (int k = 1; k <= kLevelCount; ++k) {
+        const double pit = dabPit(k);
+        EXPECT_GE(pit, 0.95) << "size " << k;
+        EXPECT_LE(pit, 1.05) << "size " << k;
     }
 }
 

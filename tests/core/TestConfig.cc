@@ -136,10 +136,10 @@ TEST(Config, AnOldBisectionBracketBecomesTheRootTolerance) {
 // one-skeleton sphere it was made with. A user's config without them gets the core.
 TEST(Config, AStoredConfigWithoutTheSpheresCoreKeepsTheOneSkeletonSphere) {
     const SculptConfig def;
-    EXPECT_EQ(def.sphereCoreWeight, 1.0);
+    EXPECT_EQ(def.sphereCoreWeight, 0.7);
     const std::string old = R"({"initial_sphere": {"radius_mm": 30, "center_mm": [0, 0, 0]}})";
     EXPECT_EQ(parseStoredConfig(old, "p/snapshot (stored config)").sphereCoreWeight, 0.0);
-    EXPECT_EQ(parseConfig(old, "user.json").sphereCoreWeight, 1.0);
+    EXPECT_EQ(parseConfig(old, "user.json").sphereCoreWeight, def.sphereCoreWeight);
     EXPECT_EQ(parseStoredConfig("{}", "p/snapshot (stored config)").sphereCoreWeight, 0.0);
     // Written now: the keys travel and come back as they were, whichever way it is read.
     SculptConfig c;

@@ -105,7 +105,7 @@ TEST(FieldEval, InitialSphereIsExact) {
     // another core: the surface lies at the radius either way; the core adds its weight at the
     // centre and steepens the surface by its own slope there.
     double plainSlope = 0;
-    for (double coreWeight : {0.0, 1.0, 0.5}) {
+    for (double coreWeight : {0.0, SculptConfig{}.sphereCoreWeight, 1.0}) {
         SCOPED_TRACE("core weight " + std::to_string(coreWeight));
         SculptConfig cfg = emptyConfig(PlacementMode::Free);
         cfg.sphereRadiusMm = 40;
@@ -137,10 +137,10 @@ TEST(FieldEval, InitialSphereIsExact) {
                 EXPECT_LT(glm::length(g), coreSlope + 1.2 * plainSlope);
             }
         }
-        if (coreWeight == 1.0)  // the default: 1.8x the plain sphere's slope
+        if (coreWeight == SculptConfig{}.sphereCoreWeight)  // 1.87x the plain sphere's slope
             EXPECT_NEAR(glm::length(probe.sample(cfg.sphereCenterMm + Vec3(40, 0, 0)).gradient) /
                             plainSlope,
-                        1.84, 0.02);
+                        1.87, 0.01);
         EXPECT_EQ(probe.value(Vec3(1000, 0, 0)), -cfg.iso);
         EXPECT_EQ(s.counts().total(), coreWeight > 0 ? 2u : 1u);
     }

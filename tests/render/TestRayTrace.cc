@@ -8,9 +8,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <random>
+#include <vector>
 
 using namespace vsculpt;
 using namespace vsculpt::render;
@@ -72,26 +75,59 @@ core::Mesh carvedRingMesh() {
     return poly.mesh();
 }
 
-// Whether a face of the given facing crosses the ray within [t0, t1], by an exact test in
-// double precision over every triangle (a few rays only: see below).
-bool exactCrossingWithin(const core::Mesh& mesh, const Vec3& origin, const Vec3& dir, double t0,
-                         double t1, bool front) {
-    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+// Whether a ray is numerically ambiguous for any float ray tracer, decided exactly (double
+// precision, every triangle: for the few rays whose front/back alternation breaks):
+//  - it passes within `edgeTolerance` (barycentric) of a fold edge, where a front and a back
+//    face meet as seen along the ray (a silhouette): exactly it touches the surface there or
+//    misses it, and a float test may report one face of the two;
+//  - or it crosses faces of both facings within `step` of each other (beside a ridge), which
+//    a search that steps past each hit cannot tell apart.
+// A ray that slipped through a shared edge of a continuous surface is neither.
+bool ambiguousRay(const core::Mesh& mesh, const Vec3& origin, const Vec3& dir, double step,
+                  double edgeTolerance) {
+    struct Crossing {
+        double t;
+        bool front;
+    };
+    std::vector<Crossing> crossings;
+    std::map<std::pair<uint32_t, uint32_t>, std::vector<size_t>> byEdge;
+    auto edgeKey = [](uint32_t a, uint32_t b) {
+        return std::make_pair(std::min(a, b), std::max(a, b));
+    };
+    for (size_t t = 0; t < mesh.triangleCount(); ++t)
+        for (int e = 0; e < 3; ++e)
+            byEdge[edgeKey(mesh.indices[3 * t + e], mesh.indices[3 * t + (e + 1) % 3])].push_back(
+                t);
+    auto facing = [&](size_t t) {
         const Vec3 a = mesh.positions[mesh.indices[3 * t]],
                    b = mesh.positions[mesh.indices[3 * t + 1]],
                    c = mesh.positions[mesh.indices[3 * t + 2]];
-        const Vec3 n = glm::cross(b - a, c - a);
-        const double along = glm::dot(n, dir);
-        if (along == 0 || (along < 0) != front) continue;
-        const double tHit = glm::dot(n, a - origin) / along;
-        if (tHit < t0 || tHit > t1) continue;
+        return glm::dot(glm::cross(b - a, c - a), dir);
+    };
+    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const uint32_t* idx = &mesh.indices[3 * t];
+        const Vec3 v[3] = {mesh.positions[idx[0]], mesh.positions[idx[1]], mesh.positions[idx[2]]};
+        const Vec3 n = glm::cross(v[1] - v[0], v[2] - v[0]);
+        const double along = glm::dot(n, dir), nn = glm::dot(n, n);
+        if (along == 0 || nn == 0) continue;
+        const double tHit = glm::dot(n, v[0] - origin) / along;
         const Vec3 p = origin + tHit * dir;
-        // Inside (or on the edges of) the triangle: the same side of all three edges.
-        const double ea = glm::dot(glm::cross(b - a, p - a), n),
-                     eb = glm::dot(glm::cross(c - b, p - b), n),
-                     ec = glm::dot(glm::cross(a - c, p - c), n);
-        if (ea >= 0 && eb >= 0 && ec >= 0) return true;
+        double e[3];
+        for (int k = 0; k < 3; ++k)
+            e[k] = glm::dot(glm::cross(v[(k + 1) % 3] - v[k], p - v[k]), n) / nn;
+        if (std::min({e[0], e[1], e[2]}) < -edgeTolerance) continue;
+        for (int k = 0; k < 3; ++k)
+            if (e[k] < edgeTolerance)
+                for (size_t other : byEdge[edgeKey(idx[k], idx[(k + 1) % 3])])
+                    if (other != t && (facing(other) < 0) != (along < 0)) return true;
+        if (std::min({e[0], e[1], e[2]}) >= 0) crossings.push_back({tHit, along < 0});
     }
+    std::sort(crossings.begin(), crossings.end(),
+              [](const Crossing& a, const Crossing& b) { return a.t < b.t; });
+    for (size_t k = 1; k < crossings.size(); ++k)
+        if (crossings[k].front != crossings[k - 1].front &&
+            crossings[k].t - crossings[k - 1].t < step)
+            return true;
     return false;
 }
 
@@ -115,14 +151,14 @@ TEST(RayTrace, RaysNeverSlipThroughAClosedMesh) {
     std::mt19937 rng(7);
     std::normal_distribution<double> n01;
     constexpr double kStep = 1e-4;
-    int broken = 0, ridges = 0;
+    int broken = 0, ambiguous = 0;
     long crossings = 0;
     for (int k = 0; k < 400000; ++k) {
         const Vec3 dir = glm::normalize(Vec3(n01(rng), n01(rng), n01(rng)));
         const Vec3 aim(20 * n01(rng), 20 * n01(rng), 20 * n01(rng));
         const Vec3 origin = aim - dir * 200.0;
         bool expectFront = true, ok = true;
-        double t = 0, lastHit = 0;
+        double t = 0;
         for (int n = 0; n < 64; ++n) {
             const auto hit = scene.intersect(origin, dir, t);
             bool front = false;
@@ -134,28 +170,24 @@ TEST(RayTrace, RaysNeverSlipThroughAClosedMesh) {
                 front = glm::dot(glm::cross(b - a, c - a), dir) < 0;
             }
             if ((hit && front != expectFront) || (!hit && !expectFront)) {
-                // Skipped by the step past the last hit (a ridge), or slipped through?
-                if (n > 0 &&
-                    exactCrossingWithin(mesh, origin, dir, lastHit, lastHit + kStep, expectFront)) {
-                    ++ridges;
-                    ++crossings;
-                    expectFront = !expectFront;
-                } else {
-                    ok = false;
-                    break;
-                }
+                ok = false;
+                break;
             }
             if (!hit) break;
             expectFront = !expectFront;
-            lastHit = hit->t;
             t = hit->t + kStep;
             ++crossings;
         }
-        broken += !(ok && expectFront);
+        if (!(ok && expectFront)) {
+            if (ambiguousRay(mesh, origin, dir, kStep, 1e-5))
+                ++ambiguous;
+            else
+                ++broken;
+        }
     }
     EXPECT_GT(crossings, 300000);  // the rays do cross the sculpture
     EXPECT_EQ(broken, 0);
-    EXPECT_LE(ridges, 4);  // rare: a ray within about 1e-4 mm of a ridge
+    EXPECT_LE(ambiguous, 8);  // rare: a ray within a float's reach of a silhouette or a ridge
 }
 
 TEST(RayTrace, SilhouettesAreAntialiased) {

@@ -234,13 +234,13 @@ struct SculptConfig {
     Vec3 sphereCenterMm{0.0};
     /// The sphere's steep core: a second point skeleton at its centre of this weight and of
     /// support sphereCoreSupportOverRadius x the radius; the first's support is solved so the
-    /// surface stays at the radius. With it the field slopes 1.8x more at the surface (0.035
+    /// surface stays at the radius. With it the field slopes 1.87x more at the surface (0.035
     /// against 0.019 per mm at r = 40) and keeps its long tail, so the tails of strokes near
     /// the sphere close no voids over crevices (spine forests: 1 seed of 40 with a void, 4
     /// without; docs/placement.md "A steep core"). 0: the one-skeleton sphere, which projects
     /// and recordings whose stored config lacks the key keep (parseStoredConfig).
-    double sphereCoreWeight = 1.0;
-    double sphereCoreSupportOverRadius = 1.15;
+    double sphereCoreWeight = 0.7;
+    double sphereCoreSupportOverRadius = 1.3;
 
     ZoomConfig zoom;
     PolygonizerConfig polygonizer;

@@ -4,8 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <vector>
+
+#include <unistd.h>
 
 namespace {
 
@@ -30,6 +34,34 @@ TEST(Cli, InfoPrintsTheInitialSculpture) {
     // One row per tool level.
     for (const char* row : {"    1 ", "    7 "})
         EXPECT_NE(r.out.find(row), std::string::npos);
+}
+
+// A recording replays with the config it was recorded with: one whose config lacks the
+// sphere's core was recorded before the core existed and keeps the one-skeleton sphere; one
+// recorded today keeps its core; --config replaces the recorded config altogether.
+TEST(Cli, ARecordingReplaysWithTheSphereItWasRecordedWith) {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                      ("vsculpt-cli-sphere-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string before = (dir / "before.vsrec").string(),
+                      today = (dir / "today.vsrec").string();
+    std::ofstream(before)
+        << "vsculpt-recording 1\nmeta config {\"initial_sphere\": {\"radius_mm\": 30}}\n";
+    std::ofstream(today)
+        << "vsculpt-recording 1\nmeta config {\"initial_sphere\": {\"radius_mm\": 30, "
+           "\"core_weight\": 0.5}}\n";
+    const CliRun a = run({"play", before.c_str(), "--no-progress"});
+    EXPECT_EQ(a.code, 0) << a.err;
+    EXPECT_NE(a.err.find(", 1 skeletons,"), std::string::npos) << a.err;
+    const CliRun b = run({"play", today.c_str(), "--no-progress"});
+    EXPECT_EQ(b.code, 0) << b.err;
+    EXPECT_NE(b.err.find(", 2 skeletons,"), std::string::npos) << b.err;
+    const std::string empty = (dir / "empty.json").string();
+    std::ofstream(empty) << "{}";
+    const CliRun c = run({"--config", empty.c_str(), "play", before.c_str(), "--no-progress"});
+    EXPECT_EQ(c.code, 0) << c.err;
+    EXPECT_NE(c.err.find(", 2 skeletons,"), std::string::npos) << c.err;  // today's defaults
+    std::filesystem::remove_all(dir);
 }
 
 TEST(Cli, WithoutADisplayTheDefaultRunSaysSoAndPrintsTheSummary) {

@@ -210,8 +210,14 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
             c.sketch.verb = verb;
             c.sketch.name = name;
             act([&] {
+                const size_t steps = studio.stepCount();
                 studio.apply(c);
                 message = name.empty() ? "done" : name;
+                if (verb == SketchCommand::Verb::Solid && studio.stepCount() == steps) {
+                    // Clay where there is clay already: no step, but say why nothing changed.
+                    message = name + ": the solid lies inside the clay, nothing added";
+                    spdlog::info("{}", message);
+                }
             });
         };
 

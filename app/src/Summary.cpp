@@ -60,10 +60,12 @@ void printSummary(const core::Sculpture& s, std::ostream& out) {
             "f(surface point) = %.2e, slope there %.4f per mm\n",
             cfg.sphereRadiusMm, center.x, center.y, center.z, probe.value(center),
             probe.value(onSurface), glm::length(probe.sample(onSurface).gradient));
-        if (cfg.sphereCoreWeight > 0)
+        if (core::sphereCoreWeightIn(cfg) > 0)
             out << fmt("  steep core: weight %.3g, support %.3f mm (%.3g x the radius)\n",
                        cfg.sphereCoreWeight, cfg.sphereCoreSupportOverRadius * cfg.sphereRadiusMm,
                        cfg.sphereCoreSupportOverRadius);
+        else if (cfg.placement == core::PlacementMode::Thesis)
+            out << "  no steep core (thesis mode: the thesis's one point skeleton)\n";
         else
             out << "  no steep core (initial_sphere.core_weight 0: one point skeleton)\n";
     } else {

@@ -43,7 +43,7 @@ Sculpture::Sculpture(const SculptConfig& cfg) : mConfig(cfg) {
         // below c). Without a core R = r / u_c.
         const HermiteFalloff& F = mLevels->falloff();
         const double r = mConfig.sphereRadiusMm;
-        const double w = mConfig.sphereCoreWeight, a = mConfig.sphereCoreSupportOverRadius;
+        const double w = sphereCoreWeightIn(mConfig), a = mConfig.sphereCoreSupportOverRadius;
         const double coreAtSurface = w > 0 ? w * F.value(1 / a) : 0.0;
         const double uOuter = F.inverse(mLevels->iso() - coreAtSurface);
         addPointSkeleton(PointSkeleton{mConfig.sphereCenterMm, r / uOuter, 1.0});

@@ -213,6 +213,18 @@ TEST(SketchWindow, MouseDrawingAndKeysMakeASolid) {
     std::ostringstream out2, err2;
     ASSERT_EQ(app::runSketchWindow(o, out2, err2), 0) << err2.str();
     EXPECT_NE(err2.str().find("1 page(s), 2 step(s)"), std::string::npos) << err2.str();
+
+    // A loop of a quarter the size inflates to a solid wholly inside the sphere: no step, and
+    // the window says why nothing changed.
+    for (auto& [at, e] : o.injectedEvents)
+        if (e.kind == E::Kind::Cursor && e.x < 640) {
+            e.x = 320 + (e.x - 320) / 4;
+            e.y = 360 + (e.y - 360) / 4;
+        }
+    std::ostringstream out3, err3;
+    ASSERT_EQ(app::runSketchWindow(o, out3, err3), 0) << err3.str();
+    EXPECT_NE(err3.str().find("the solid lies inside the clay, nothing added"), std::string::npos)
+        << err3.str();
 }
 
 TEST(SketchWindow, BadScriptIsRefusedWithTheLine) {

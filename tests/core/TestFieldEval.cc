@@ -146,6 +146,18 @@ TEST(FieldEval, InitialSphereIsExact) {
     }
 }
 
+TEST(FieldEval, ThesisModeKeepsTheThesissOneSkeletonSphere) {
+    // Thesis-mode carves read the field inside the sphere: it stays the thesis's, whatever
+    // initial_sphere.core_weight says.
+    SculptConfig cfg = emptyConfig(PlacementMode::Thesis);
+    cfg.sphereRadiusMm = 40;
+    ASSERT_GT(cfg.sphereCoreWeight, 0);
+    const Sculpture s(cfg);
+    EXPECT_EQ(s.counts().point, 1u);
+    EXPECT_NEAR(FieldProbe(s).value(Vec3(0.0)), cfg.falloff.f0 - cfg.iso, 1e-12);
+    EXPECT_NEAR(FieldProbe(s).value(Vec3(40, 0, 0)), 0.0, 1e-12);
+}
+
 TEST(FieldEval, EditsAfterTheProbeWasMadeAreSeen) {
     Sculpture s(emptyConfig(PlacementMode::Thesis));
     FieldProbe probe(s);

@@ -239,6 +239,7 @@ struct SculptConfig {
     /// the sphere close no voids over crevices (spine forests: 1 seed of 40 with a void, 4
     /// without; docs/placement.md "A steep core"). 0: the one-skeleton sphere, which projects
     /// and recordings whose stored config lacks the key keep (parseStoredConfig).
+    /// Thesis mode ignores it: its sphere is the thesis's one skeleton (sphereCoreWeightIn).
     double sphereCoreWeight = 0.7;
     double sphereCoreSupportOverRadius = 1.3;
 
@@ -251,6 +252,13 @@ struct SculptConfig {
     /// Where the values came from ("built-in defaults" or a file path), for messages.
     std::string source = "built-in defaults";
 };
+
+/// The weight of the initial sphere's steep core the sculpture gets: sphereCoreWeight, except
+/// in thesis mode, which keeps the thesis's one-skeleton sphere (its carves read the field
+/// inside the sphere: docs/placement.md "Thesis mode").
+inline double sphereCoreWeightIn(const SculptConfig& cfg) {
+    return cfg.placement == PlacementMode::Thesis ? 0.0 : cfg.sphereCoreWeight;
+}
 
 /// A user error in a config: message names the file, the line or key, and the reason.
 class ConfigError : public std::runtime_error {

@@ -256,8 +256,9 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out,
         if (seen) return key;
         seen = true;
         const int bi = ai + (dir & 1), bj = aj + ((dir >> 1) & 1), bk = ak + ((dir >> 2) & 1);
-        Vec3 lo = mRegion.vertexPos(gx0 + ai, gy0 + aj, gz0 + ak);
-        Vec3 hi = mRegion.vertexPos(gx0 + bi, gy0 + bj, gz0 + bk);
+        const Vec3 edgeLo = mRegion.vertexPos(gx0 + ai, gy0 + aj, gz0 + ak);
+        const Vec3 edgeHi = mRegion.vertexPos(gx0 + bi, gy0 + bj, gz0 + bk);
+        Vec3 lo = edgeLo, hi = edgeHi;
         if (old && !touched(lo, hi)) {
             // The end values are the same too, so the edge crossed before and its vertex is
             // in the old mesh (not found only after a chunk cull emptied it: solved below).
@@ -306,13 +307,11 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out,
         }
         {
             // Clamped on the grid edge itself, so every build of this edge gets the same bits.
-            const Vec3 a = mRegion.vertexPos(gx0 + ai, gy0 + aj, gz0 + ak);
-            const Vec3 b = mRegion.vertexPos(gx0 + bi, gy0 + bj, gz0 + bk);
-            const Vec3 ab = b - a;
+            const Vec3 ab = edgeHi - edgeLo;
             const double length = glm::length(ab);
             const double inset = std::min(0.5, kVertexInsetOverTolerance * mTolerance / length);
-            const double u = glm::dot(p - a, ab) / (length * length);
-            if (u < inset || u > 1 - inset) p = a + std::clamp(u, inset, 1 - inset) * ab;
+            const double u = glm::dot(p - edgeLo, ab) / (length * length);
+            if (u < inset || u > 1 - inset) p = edgeLo + std::clamp(u, inset, 1 - inset) * ab;
         }
         const double g = glm::length(s.gradient);
         const Vec3 n = g > 0 ? -s.gradient / g : Vec3(0.0);

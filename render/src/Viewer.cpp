@@ -16,6 +16,24 @@ namespace vsculpt::render {
 
 namespace {
 
+/// Lines drawn aliased, every sample covered: a one-pixel line multisampled comes out as a
+/// faint, broken one (its samples lose depth ties with the surface it lies on).
+void drawWholeLines(const detail::GpuMesh& lines) {
+    glDisable(GL_MULTISAMPLE);
+    lines.draw(GL_LINES);
+    glEnable(GL_MULTISAMPLE);
+}
+
+/// Lines on the model: lines and triangles rasterize depth differently, so they are pulled a
+/// hair nearer, and the surface they lie on does not cut them into dashes.
+void drawLinesOnSurface(const detail::GpuMesh& lines) {
+    glDepthFunc(GL_LEQUAL);
+    glDepthRange(0.0, 0.9995);
+    drawWholeLines(lines);
+    glDepthRange(0.0, 1.0);
+    glDepthFunc(GL_LESS);
+}
+
 /// A unit sphere (for the tool), latitude-longitude.
 core::Mesh unitSphere(int rings, int segments) {
     core::Mesh m;
@@ -419,17 +437,7 @@ FrameStats Viewer::draw(const glm::dmat4& worldFromObject, const core::Aabb& fra
             // equal depth passes.
             glUniformMatrix4fv(mImpl->worldFromObjectLoc, 1, GL_FALSE, glm::value_ptr(object));
             glUniform3f(mImpl->tintLoc, 0.75f, 0.12f, 0.1f);
-            // Lines and triangles rasterize depth differently: pull the lines a hair nearer so
-            // the surface they lie on does not cut them into dashes.
-            glDepthFunc(GL_LEQUAL);
-            glDepthRange(0.0, 0.9995);
-            // Aliased, every sample covered: a one-pixel line multisampled comes out as a
-            // faint, broken one (its samples lose depth ties with the surface it lies on).
-            glDisable(GL_MULTISAMPLE);
-            mImpl->lineMesh.draw(GL_LINES);
-            glEnable(GL_MULTISAMPLE);
-            glDepthRange(0.0, 1.0);
-            glDepthFunc(GL_LESS);
+            drawLinesOnSurface(mImpl->lineMesh);
         }
         if (tool.visible) {
             // Contact cue: green in the air, yellow touching, red inside the material.
@@ -564,13 +572,7 @@ FrameStats Viewer::drawEye(const glm::dmat4& worldFromObject, const ToolDraw& to
     }
     if (m.lineMesh.count > 0) {
         glUniform3f(m.tintLoc, 0.75f, 0.12f, 0.1f);
-        glDepthFunc(GL_LEQUAL);
-        glDepthRange(0.0, 0.9995);
-        glDisable(GL_MULTISAMPLE);  // as in draw(): whole lines
-        m.lineMesh.draw(GL_LINES);
-        glEnable(GL_MULTISAMPLE);
-        glDepthRange(0.0, 1.0);
-        glDepthFunc(GL_LESS);
+        drawLinesOnSurface(m.lineMesh);
     }
     if (tool.visible) {
         // The same contact colours as the window: green air, yellow touching, red inside.
@@ -609,9 +611,7 @@ FrameStats Viewer::drawEye(const glm::dmat4& worldFromObject, const ToolDraw& to
         m.pointerMesh.upload(ray);
         glUniformMatrix4fv(m.worldFromObjectLoc, 1, GL_FALSE, glm::value_ptr(glm::mat4(1.f)));
         glUniform3f(m.tintLoc, 0.75f, 0.95f, 1.1f);
-        glDisable(GL_MULTISAMPLE);
-        m.pointerMesh.draw(GL_LINES);
-        glEnable(GL_MULTISAMPLE);
+        drawWholeLines(m.pointerMesh);
     }
     if (multisample) {
         glBindFramebuffer(GL_READ_FRAMEBUFFER, m.msFbo);

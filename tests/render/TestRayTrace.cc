@@ -75,29 +75,40 @@ core::Mesh carvedRingMesh() {
     return poly.mesh();
 }
 
-// Whether a ray is numerically ambiguous for any float ray tracer, decided exactly (double
-// precision, every triangle: for the few rays whose front/back alternation breaks):
+// ExactRays::ambiguous: whether a ray is numerically ambiguous for any float ray tracer, decided
+// exactly (double precision, every triangle: for the few rays whose front/back alternation breaks):
 //  - it passes within `edgeTolerance` (barycentric) of a fold edge, where a front and a back
 //    face meet as seen along the ray (a silhouette): exactly it touches the surface there or
 //    misses it, and a float test may report one face of the two;
 //  - or it crosses faces of both facings within `step` of each other (beside a ridge), which
 //    a search that steps past each hit cannot tell apart.
 // A ray that slipped through a shared edge of a continuous surface is neither.
-bool ambiguousRay(const core::Mesh& mesh, const Vec3& origin, const Vec3& dir, double step,
-                  double edgeTolerance) {
+class ExactRays {
+  public:
+    explicit ExactRays(const core::Mesh& mesh) : mMesh(mesh) {
+        for (size_t t = 0; t < mesh.triangleCount(); ++t)
+            for (int e = 0; e < 3; ++e)
+                mByEdge[edgeKey(mesh.indices[3 * t + e], mesh.indices[3 * t + (e + 1) % 3])]
+                    .push_back(t);
+    }
+    bool ambiguous(const Vec3& origin, const Vec3& dir, double step, double edgeTolerance) const;
+
+  private:
+    static std::pair<uint32_t, uint32_t> edgeKey(uint32_t a, uint32_t b) {
+        return std::make_pair(std::min(a, b), std::max(a, b));
+    }
+    const core::Mesh& mMesh;
+    std::map<std::pair<uint32_t, uint32_t>, std::vector<size_t>> mByEdge;
+};
+
+bool ExactRays::ambiguous(const Vec3& origin, const Vec3& dir, double step,
+                          double edgeTolerance) const {
+    const core::Mesh& mesh = mMesh;
     struct Crossing {
         double t;
         bool front;
     };
     std::vector<Crossing> crossings;
-    std::map<std::pair<uint32_t, uint32_t>, std::vector<size_t>> byEdge;
-    auto edgeKey = [](uint32_t a, uint32_t b) {
-        return std::make_pair(std::min(a, b), std::max(a, b));
-    };
-    for (size_t t = 0; t < mesh.triangleCount(); ++t)
-        for (int e = 0; e < 3; ++e)
-            byEdge[edgeKey(mesh.indices[3 * t + e], mesh.indices[3 * t + (e + 1) % 3])].push_back(
-                t);
     auto facing = [&](size_t t) {
         const Vec3 a = mesh.positions[mesh.indices[3 * t]],
                    b = mesh.positions[mesh.indices[3 * t + 1]],
@@ -118,7 +129,7 @@ bool ambiguousRay(const core::Mesh& mesh, const Vec3& origin, const Vec3& dir, d
         if (std::min({e[0], e[1], e[2]}) < -edgeTolerance) continue;
         for (int k = 0; k < 3; ++k)
             if (e[k] < edgeTolerance)
-                for (size_t other : byEdge[edgeKey(idx[k], idx[(k + 1) % 3])])
+                for (size_t other : mByEdge.at(edgeKey(idx[k], idx[(k + 1) % 3])))
                     if (other != t && (facing(other) < 0) != (along < 0)) return true;
         if (std::min({e[0], e[1], e[2]}) >= 0) crossings.push_back({tHit, along < 0});
     }
@@ -148,6 +159,7 @@ TEST(RayTrace, RaysNeverSlipThroughAClosedMesh) {
     const core::Mesh mesh = carvedRingMesh();
     ASSERT_TRUE(core::analyzeTopology(mesh).watertight());
     const RayScene scene(mesh);
+    const ExactRays exact(mesh);
     std::mt19937 rng(7);
     std::normal_distribution<double> n01;
     constexpr double kStep = 1e-4;
@@ -179,7 +191,7 @@ TEST(RayTrace, RaysNeverSlipThroughAClosedMesh) {
             ++crossings;
         }
         if (!(ok && expectFront)) {
-            if (ambiguousRay(mesh, origin, dir, kStep, 1e-5))
+            if (exact.ambiguous(origin, dir, kStep, 1e-5))
                 ++ambiguous;
             else
                 ++broken;

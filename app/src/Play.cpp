@@ -262,7 +262,18 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
         size_t done = 0;
         for (const ScriptCommand& c : script.commands) {
             try {
+                const size_t stepsBefore = studio.stepCount();
                 const bool edited = studio.apply(c);
+                // A solid or a mesh wholly inside the clay changes nothing and makes no step: say
+                // so, as the sketch window does, rather than pass over the line in silence.
+                const bool addsClay = c.kind == ScriptCommand::Kind::Import ||
+                                      (c.kind == ScriptCommand::Kind::Sketch &&
+                                       c.sketch.verb == SketchCommand::Verb::Solid);
+                if (addsClay && studio.stepCount() == stepsBefore) {
+                    progress.clear();
+                    spdlog::warn("{}:{}: the {} lies inside the clay: nothing added", script.source,
+                                 c.line, c.kind == ScriptCommand::Kind::Import ? "mesh" : "solid");
+                }
                 if (o.check && edited) {
                     const std::string diff = session->verifyMesh();
                     if (!diff.empty()) {

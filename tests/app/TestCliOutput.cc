@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -285,3 +286,47 @@ TEST(CliOutput, BinaryInputIsNamedNotEchoed) {
 }
 
 }  // namespace
+
+// A sketched solid or an imported mesh wholly inside the clay adds nothing and makes no step;
+// `play` says so with the script's line (as the sketch window does), and runs on.
+TEST(CliOutput, ASolidOrMeshInsideTheClayIsNamedWithItsLine) {
+    const fs::path dir = scratchDir("inside");
+    auto loopScript = [&](const std::string& name, double radiusMm) {
+        std::ostringstream s;
+        s << "page body\nmode cleanup\npen";
+        for (int i = 0; i <= 72; ++i) {
+            const double a = 2 * 3.14159265358979 * i / 72;
+            s << ' ' << radiusMm * std::cos(a) << ',' << radiusMm * std::sin(a) << ",0.8";
+        }
+        s << "\nendgroup\nrole outline last\nsolid inflate\n";
+        const fs::path p = dir / name;
+        std::ofstream(p) << s.str();
+        return p.string();
+    };
+    // A 10 mm loop inflates inside the radius-40 sphere; a 60 mm one reaches out of it.
+    const std::string small = loopScript("small.vsc", 10), big = loopScript("big.vsc", 60);
+    CliRun r = run({"play", small, "--stats", "-"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("warning: " + small + ":6: the solid lies inside the clay: nothing added"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["sketch"]["solids"], 0) << r.out;
+    r = run({"play", big, "--stats", "-"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["sketch"]["solids"], 1) << r.out;
+
+    // A 10 mm cube at the sphere's centre, imported: the same.
+    std::ofstream(dir / "cube.obj") << "v -5 -5 -5\nv 5 -5 -5\nv 5 5 -5\nv -5 5 -5\n"
+                                       "v -5 -5 5\nv 5 -5 5\nv 5 5 5\nv -5 5 5\n"
+                                       "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\n"
+                                       "f 3 4 8 7\nf 4 1 5 8\n";
+    std::ofstream(dir / "import.vsc") << "# a cube inside the sphere\nimport cube.obj\n";
+    r = run({"play", (dir / "import.vsc").string()});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find((dir / "import.vsc").string() +
+                         ":2: the mesh lies inside the clay: nothing added"),
+              std::string::npos)
+        << r.err;
+    fs::remove_all(dir);
+}

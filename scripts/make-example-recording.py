@@ -64,7 +64,10 @@ t += 50 * MS
 ev(t, "tracker", "left")
 ev(t, "mouse", "left")
 
-config = {"polygonizer": {"grid_n": 64}, "devices": {"match": [
+# A recorded config without initial_sphere.core_weight reads as one made before the steep core
+# (docs/projects.md), so the keys are given: the example plays with today's sphere.
+config = {"polygonizer": {"grid_n": 64},
+          "initial_sphere": {"core_weight": 0.7, "core_support_over_radius": 1.3}, "devices": {"match": [
     {"name": "tracker", "driver": "polhemus", "access": "libusb", "vendor": 0x0F44, "products": [0xFF20]},
     {"name": "mouse", "driver": "spacemouse", "access": "hidraw", "vendor": 0x256F, "products": [0xC635]}]}}
 out = sys.argv[1] if len(sys.argv) > 1 else "examples/tracker-session.vsrec"

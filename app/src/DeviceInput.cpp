@@ -11,6 +11,7 @@
 #include "vsculpt/devices/SpaceMouse.h"
 #include "vsculpt/devices/WacomLegacy.h"
 
+#include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
 #include <glm/gtc/quaternion.hpp>
 
@@ -495,6 +496,30 @@ std::optional<glm::dmat4> DeviceInput::worldFromHead(int64_t timeNs) const {
     } catch (const std::exception&) {
         return std::nullopt;
     }
+}
+
+std::string DeviceInput::recenterHead(int64_t timeNs, const glm::dvec3& worldTargetMm) {
+    devices::HeadPoseTracker& head = mState->head;
+    const std::optional<glm::dquat> orientation = head.latestOrientation();
+    const std::optional<glm::dmat4> worldFromHeadNow = worldFromHead(timeNs);
+    if (!orientation || !worldFromHeadNow)
+        throw std::runtime_error(
+            "recenter: no head pose (the headset and the tracker's head station must both be "
+            "reporting)");
+    devices::HeadCalibration& cal = head.calibration();
+    const glm::dvec3 headMm((*worldFromHeadNow)[3]);
+    glm::dquat heading;
+    try {
+        heading = devices::recenterHeading(*orientation, cal.headFromImu, worldTargetMm - headMm);
+    } catch (const std::invalid_argument& e) {
+        throw std::runtime_error(std::string("recenter: ") + e.what());
+    }
+    // The turn as people read it: the new heading against the old, about world z.
+    const glm::dquat turn = heading * glm::conjugate(cal.worldFromFusion);
+    const double degrees = glm::degrees(2.0 * std::atan2(turn.z, turn.w));
+    cal.worldFromFusion = heading;
+    return fmt::format("view recentred: the heading turned by {:.0f} degrees",
+                       std::remainder(degrees, 360.0));
 }
 
 std::string DeviceInput::summary() const {

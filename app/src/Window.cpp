@@ -189,7 +189,16 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
                     ui.jumpToZoom(std::min(5, session.zoom() + 1), zoomTarget(toolObject));
                 else if (a == "zoom_out")
                     ui.jumpToZoom(std::max(1, session.zoom() - 1), toolObject);
-                else if (Rig::handles(a)) {
+                else if (a == "recenter") {
+                    // The head-tracked view looks toward what the camera frames.
+                    if (!rig->devices())
+                        throw std::runtime_error("recenter: the devices are not open");
+                    const Vec3 centre =
+                        frameBox.empty() ? Vec3(0.0) : 0.5 * (frameBox.min + frameBox.max);
+                    message = rig->devices()->recenterHead(
+                        devices::monotonicNowNs(), Vec3(worldFromObject * glm::dvec4(centre, 1)));
+                    spdlog::info("{}", message);
+                } else if (Rig::handles(a)) {
                     message = rig->projectAction(a);
                     spdlog::info("{}", message);
                     // Save as and new project replace the studio: this frame's

@@ -584,9 +584,10 @@ SculptConfig loadConfig(const std::filesystem::path& path) {
 
 const std::vector<std::string>& bindableActions() {
     static const std::vector<std::string> a = {
-        "cycle_tool", "step",   "zoom_in", "zoom_out", "overview",    "undo",   "redo",
-        "quit",       "size_1", "size_2",  "size_3",   "size_4",      "size_5", "size_6",
-        "size_7",     "save",   "save_as", "export",   "new_project", "help",   "cycle_mirror"};
+        "cycle_tool",  "step",   "zoom_in",      "zoom_out", "overview", "undo",
+        "redo",        "quit",   "size_1",       "size_2",   "size_3",   "size_4",
+        "size_5",      "size_6", "size_7",       "save",     "save_as",  "export",
+        "new_project", "help",   "cycle_mirror", "recenter"};
     return a;
 }
 

@@ -375,3 +375,68 @@ TEST(DeviceInput, GenericHidTabletIsDecodedFromItsArrivingDescriptor) {
 }
 
 }  // namespace
+
+namespace {
+
+// The head-tracked view (a Rift DK1 on the head, the tracker's head station for its
+// position): the IMU knows up but not which way the room faces, so its heading is arbitrary
+// until the recenter action turns it, about the vertical only, to look toward the target.
+TEST(DeviceInput, RecenterTurnsTheHeadTrackedViewTowardTheTarget) {
+    core::SculptConfig cfg = config();
+    cfg.devices.match.push_back({"headset", "rift", "hidraw", 0x2833, {0x0001}, 0, 0, 0});
+    Studio studio(cfg);
+    Interaction ui(studio);
+    DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, studio);
+    // No head pose yet: refused, saying why.
+    try {
+        input.recenterHead(0, glm::dvec3(0.0));
+        ADD_FAILURE() << "recentred without a head pose";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("no head pose"), std::string::npos) << e.what();
+    }
+    input.handle(arrived(0, "headset", 0x2833, 0x0001));
+    input.handle(arrived(0, "tracker", 0x0f44, 0xff20));
+    // A still head, tilted a little down (gravity mostly along the IMU's +y), its station
+    // 600 mm from the tracker's source along +x.
+    const int32_t accel[3] = {0, 96000, -20000};
+    int64_t t = 0;
+    uint32_t frame = 0;
+    auto run = [&](int reports) {
+        for (int i = 0; i < reports; ++i) {
+            t += kMs;
+            input.handle(test::report(t, "headset", test::riftDk1Report(uint16_t(t / kMs), accel)));
+            if (i % 4 == 0)
+                input.handle(test::report(
+                    t, "tracker", test::libertyRecord(cfg.devices.headStation, 60, 0, 0, ++frame)));
+            input.takeOutput();
+        }
+    };
+    run(200);
+    const std::optional<glm::dmat4> before = input.worldFromHead(t);
+    ASSERT_TRUE(before.has_value());
+    const glm::dvec3 head((*before)[3]);
+    // The gaze is the head frame's -z; the target: the world origin, seen from the head.
+    auto planAngleDeg = [&](const glm::dmat4& worldFromHead, const glm::dvec3& target) {
+        const glm::dvec3 gaze = -glm::dvec3(worldFromHead[2]);
+        const glm::dvec2 g = glm::normalize(glm::dvec2(gaze)),
+                         d = glm::normalize(glm::dvec2(target - head));
+        return glm::degrees(std::acos(std::clamp(glm::dot(g, d), -1.0, 1.0)));
+    };
+    const glm::dvec3 target(0.0);
+    ASSERT_GT(planAngleDeg(*before, target), 20.0);  // the premise: it looked elsewhere
+
+    const std::string said = input.recenterHead(t, target);
+    EXPECT_NE(said.find("view recentred: the heading turned by"), std::string::npos) << said;
+    run(100);  // the turn is kept as the head keeps reporting
+    const std::optional<glm::dmat4> after = input.worldFromHead(t);
+    ASSERT_TRUE(after.has_value());
+    EXPECT_LT(planAngleDeg(*after, target), 0.5);
+    // A turn about the vertical only: the head's tilt and position are as they were.
+    EXPECT_NEAR((*after)[2].z, (*before)[2].z, 1e-6);
+    EXPECT_NEAR(glm::length(glm::dvec3((*after)[3]) - head), 0.0, 1e-6);
+    // A target straight below the head has no direction in plan: refused, nothing turned.
+    EXPECT_THROW(input.recenterHead(t, head - glm::dvec3(0, 0, 500)), std::runtime_error);
+    EXPECT_LT(planAngleDeg(*input.worldFromHead(t), target), 0.5);
+}
+
+}  // namespace

@@ -83,6 +83,13 @@ class DeviceInput {
     /// worldFromHead (rigid, mm) at host time `timeNs`, when a headset and the head station
     /// have both reported recently.
     std::optional<glm::dmat4> worldFromHead(int64_t timeNs) const;
+    /// The "recenter" action of the head-tracked view: the headset's IMU knows up but not
+    /// which way the room faces, so its heading (the calibration's worldFromFusion, a turn about
+    /// world z) is set so that the head, as it is at host time `timeNs`, looks toward
+    /// `worldTargetMm` in plan. Returns the line for the status bar. Throws std::runtime_error,
+    /// saying why, when there is no head pose yet or the head looks (or the target lies)
+    /// straight up or down.
+    std::string recenterHead(int64_t timeNs, const glm::dvec3& worldTargetMm);
 
     const std::map<std::string, DeviceCounters>& counters() const { return mCounters; }
     /// One line per device: "name: N reports, M samples, ..." for logs and `play` output.

@@ -74,12 +74,12 @@ const std::vector<std::string>& sketchBindableActions();
 struct InteractionConfig {
     /// action -> key name (GLFW names without the GLFW_KEY_ prefix: "TAB", "SPACE", "Z", "1").
     std::map<std::string, std::string> bindings{
-        {"cycle_tool", "TAB"}, {"step", "SPACE"}, {"zoom_in", "Z"},      {"zoom_out", "X"},
-        {"overview", "O"},     {"undo", "U"},     {"redo", "R"},         {"quit", "ESCAPE"},
-        {"size_1", "1"},       {"size_2", "2"},   {"size_3", "3"},       {"size_4", "4"},
-        {"size_5", "5"},       {"size_6", "6"},   {"size_7", "7"},       {"save", "F5"},
-        {"save_as", "F6"},     {"export", "F7"},  {"new_project", "F8"}, {"help", "F1"},
-        {"cycle_mirror", "M"}};
+        {"cycle_tool", "TAB"}, {"step", "SPACE"},   {"zoom_in", "Z"},      {"zoom_out", "X"},
+        {"overview", "O"},     {"undo", "U"},       {"redo", "R"},         {"quit", "ESCAPE"},
+        {"size_1", "1"},       {"size_2", "2"},     {"size_3", "3"},       {"size_4", "4"},
+        {"size_5", "5"},       {"size_6", "6"},     {"size_7", "7"},       {"save", "F5"},
+        {"save_as", "F6"},     {"export", "F7"},    {"new_project", "F8"}, {"help", "F1"},
+        {"cycle_mirror", "M"}, {"recenter", "HOME"}};
     /// The sketch window's keys, action -> key name (the same names).
     std::map<std::string, std::string> sketchBindings{{"undo", "U"},
                                                       {"redo", "R"},
@@ -87,6 +87,7 @@ struct InteractionConfig {
                                                       {"mode", "TAB"},
                                                       {"kind_line", "L"},
                                                       {"kind_curve", "C"},
+                                                      {"recenter", "F9"},
                                                       {"end_group", "ENTER"},
                                                       {"role_outline", "O"},
                                                       {"role_surface_x", "1"},

@@ -83,6 +83,11 @@ class HeadPoseTracker {
     /// like combineHeadPose() if the calibration was set to non-finite values.
     std::optional<glm::dmat4> worldFromHeadAt(int64_t timeNs) const;
 
+    /// The latest fused orientation (fusionFromImu), as given; nullopt before the first.
+    std::optional<glm::dquat> latestOrientation() const {
+        return mHaveOrientation ? std::optional<glm::dquat>(mOrientation) : std::nullopt;
+    }
+
     HeadCalibration& calibration() { return mCalibration; }
     const HeadCalibration& calibration() const { return mCalibration; }
 

@@ -33,6 +33,44 @@ using namespace vsculpt::core;
 
 namespace {
 
+namespace fs = std::filesystem;
+
+// A path as the file system resolves it (links, "..", relative to the working folder), also
+// for a file not made yet.
+fs::path resolvedPath(const std::string& path) {
+    std::error_code ec;
+    const fs::path absolute = fs::absolute(path, ec);
+    if (ec) return fs::path(path).lexically_normal();
+    const fs::path resolved = fs::weakly_canonical(absolute, ec);
+    return ec ? absolute.lexically_normal() : resolved;
+}
+
+// Two outputs on one file, or an output on the script, the config or a project's own files
+// (every file directly in its folder: snapshot, journal, their backups, sketch.json, lock):
+// the run would overwrite what it reads or writes. The message, or "" when none clash.
+std::string outputClash(const std::vector<std::pair<std::string, std::string>>& written,
+                        const std::string& script, const std::string& config,
+                        const std::string& projectDir) {
+    for (size_t i = 0; i < written.size(); ++i) {
+        const auto& [option, path] = written[i];
+        const fs::path p = resolvedPath(path);
+        for (size_t k = 0; k < i; ++k)
+            if (resolvedPath(written[k].second) == p)
+                return option + " " + path + ": the same file as " + written[k].first + " " +
+                       written[k].second + " (each output needs its own file)";
+        if (p == resolvedPath(script))
+            return option + " " + path +
+                   ": that is the script being played; it would be overwritten";
+        if (!config.empty() && p == resolvedPath(config))
+            return option + " " + path + ": that is the --config file; it would be overwritten";
+        if (!projectDir.empty() && p.parent_path() == resolvedPath(projectDir))
+            return option + " " + path + ": inside the project folder " + projectDir +
+                   ", which holds the project's own files (write it to another folder, such as " +
+                   (fs::path(projectDir) / "exports").string() + ")";
+    }
+    return "";
+}
+
 bool isDeviceRecording(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     std::string first;
@@ -183,6 +221,13 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
             spdlog::error("{}", e.what());
             return 2;
         }
+        // The shot is drawn after the whole run: a missing display must not cost it.
+        try {
+            render::requireDisplay();
+        } catch (const render::RenderError& e) {
+            spdlog::error("--shot {}: {}", o.shotPath, e.what());
+            return 1;
+        }
     }
     std::unique_ptr<tbb::global_control> threads;
     if (o.threads > 0)
@@ -192,10 +237,18 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
     // Outputs are checked before the session runs: a typo in a folder name must not cost
     // the whole run.
     {
-        std::vector<std::string> written = o.outputs;
-        if (!o.shotPath.empty()) written.push_back(o.shotPath);
-        if (!o.statsPath.empty() && o.statsPath != "-") written.push_back(o.statsPath);
-        for (const std::string& path : written) {
+        std::vector<std::pair<std::string, std::string>> written;  // option, path
+        for (const std::string& path : o.outputs)
+            written.emplace_back("--out", path);
+        if (!o.shotPath.empty()) written.emplace_back("--shot", o.shotPath);
+        if (!o.statsPath.empty() && o.statsPath != "-")
+            written.emplace_back("--stats", o.statsPath);
+        if (const std::string clash = outputClash(written, o.script, o.configPath, o.projectDir);
+            !clash.empty()) {
+            spdlog::error("{}", clash);
+            return 2;
+        }
+        for (const auto& [option, path] : written) {
             try {
                 core::ensureWritable(path);
             } catch (const std::exception& e) {

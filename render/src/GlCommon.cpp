@@ -74,8 +74,8 @@ void ensureGlfw() {
     static GlfwLibrary glfw;
     if (!glfw.ok)
         throw RenderError("cannot open a display for OpenGL (" + glfw.error +
-                          "); on a machine without one, run under xvfb-run, or use "
-                          "`vsculpt play` for headless sessions");
+                          "); on a machine without one, run under xvfb-run; `vsculpt play` without "
+                          "--shot and `vsculpt render` need none");
 }
 
 WindowPtr createWindow(int width, int height, const std::string& title, bool visible, int samples) {

@@ -15,6 +15,10 @@
 
 namespace vsculpt::render {
 
+void requireDisplay() {
+    detail::ensureGlfw();
+}
+
 const char* toString(StereoMode m) {
     switch (m) {
         case StereoMode::Mono:

@@ -332,6 +332,8 @@ void parseImport(const std::string& full, const LineParser& p, const std::string
 Script parseScript(std::string_view text, const std::string& source) {
     Script script;
     script.source = source;
+    // Editors on Windows start UTF-8 files with a byte order mark: not part of the first command.
+    if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
     if (const auto at = core::firstBinaryByte(text)) {
         const size_t line = 1 + size_t(std::count(text.begin(), text.begin() + long(*at), '\n'));
         throw ScriptError(source + ":" + std::to_string(line) +

@@ -330,3 +330,43 @@ TEST(CliOutput, ASolidOrMeshInsideTheClayIsNamedWithItsLine) {
         << r.err;
     fs::remove_all(dir);
 }
+
+namespace {
+
+// An output on the script, on another output or on a project's own files would overwrite
+// what the run reads or writes: refused before the run (2), the file untouched.
+TEST(CliOutput, OutputsThatWouldOverwriteTheRunsOwnFilesAreRefused) {
+    const fs::path dir = scratchDir("clash");
+    const fs::path script = dir / "s.vsc";
+    std::ofstream(script) << "tool add\nsize 7\nstroke 0 0 40  10 0 45\n";
+    const std::string before = readFile(script);
+    CliRun r = run({"play", script.string(), "--stats", (dir / "." / "s.vsc").string()});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("that is the script being played"), std::string::npos) << r.err;
+    EXPECT_EQ(readFile(script), before);
+
+    r = run({"play", script.string(), "--out", (dir / "a.obj").string(), "--stats",
+             (dir / "sub" / ".." / "a.obj").string()});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("the same file as --out " + (dir / "a.obj").string()), std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(dir / "a.obj"));
+
+    const fs::path project = dir / "p";
+    ASSERT_EQ(run({"play", script.string(), "--project", project.string()}).code, 0);
+    const std::string snapshot = readFile(project / "snapshot.vsnap");
+    r = run({"play", script.string(), "--project", project.string(), "--stats",
+             (project / "snapshot.vsnap").string()});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("inside the project folder"), std::string::npos) << r.err;
+    EXPECT_EQ(readFile(project / "snapshot.vsnap"), snapshot);
+    // Outputs elsewhere, and in a folder within the project, are written as before.
+    fs::create_directories(project / "exports");
+    r = run({"play", script.string(), "--project", project.string(), "--out",
+             (project / "exports" / "s.obj").string()});
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(fs::exists(project / "exports" / "s.obj"));
+    fs::remove_all(dir);
+}
+
+}  // namespace

@@ -90,6 +90,22 @@ TEST(Script, BadLinesNameTheirLine) {
     }
 }
 
+// A UTF-8 byte order mark (Windows editors write one) is not part of the first command; one
+// anywhere else is still an unknown word, named with its line.
+TEST(Script, AByteOrderMarkAtTheStartIsSkipped) {
+    const Script s = parseScript("\xEF\xBB\xBFtool carve\r\nsize 5\r\n", "bom.vsc");
+    ASSERT_EQ(s.commands.size(), 2u);
+    EXPECT_EQ(s.commands[0].kind, Kind::Tool);
+    EXPECT_EQ(s.commands[0].line, 1);
+    EXPECT_EQ(s.commands[1].line, 2);
+    try {
+        parseScript("tool carve\n\xEF\xBB\xBFsize 5\n", "bom.vsc");
+        ADD_FAILURE() << "a mark inside the file was taken";
+    } catch (const ScriptError& e) {
+        EXPECT_NE(std::string(e.what()).find("bom.vsc:2:"), std::string::npos) << e.what();
+    }
+}
+
 TEST(Script, MissingFileIsAnError) {
     EXPECT_THROW(loadScript("/nonexistent/script.vsc"), ScriptError);
 }

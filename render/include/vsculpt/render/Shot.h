@@ -52,6 +52,10 @@ inline constexpr uint8_t kBackground[3] = {26, 28, 38};
 /// Object space = world space.
 Image renderShot(const core::Mesh& mesh, const ShotOptions& options);
 
+/// Throws RenderError, saying what to do, when no display can be opened for OpenGL: the check
+/// renderShot makes first, for a run that must know before its work (`play --shot`).
+void requireDisplay();
+
 /// Throws RenderError naming the path when it cannot be written.
 void writePng(const Image& image, const std::filesystem::path& path);
 

@@ -4,5 +4,6 @@
 #include <iostream>
 
 int main(int argc, char** argv) {
+    vsculpt::app::removeTemporaryFilesOnInterrupt();
     return vsculpt::app::runCli(argc, argv, std::cout, std::cerr);
 }

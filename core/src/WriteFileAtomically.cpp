@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/core/WriteFileAtomically.h"
 
+#include <dirent.h>
 #include <fcntl.h>
+#include <limits.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -9,6 +12,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <random>
 
 namespace vsculpt::core {
@@ -56,6 +60,91 @@ std::string tempName(const std::string& name) {
     return detail::temporaryName(name, tempCounter().fetch_add(1, std::memory_order_relaxed));
 }
 
+// The temporary files of this process's writes in progress, for a signal handler to remove:
+// fixed slots (no allocation, no lock), each a state and an absolute path. A slot is claimed
+// by a compare-and-swap from free to being filled, filled, then published as live; the
+// handler reads only live slots. More writes at once than slots: the extra ones are not
+// tracked.
+struct PendingSlot {
+    std::atomic<int> state{0};  // 0 free, 1 being filled, 2 live
+    char path[PATH_MAX];
+};
+constexpr int kPendingSlots = 32;
+PendingSlot gPending[kPendingSlots];
+std::atomic<void (*)(const char*)> gAfterTemporaryCreated{nullptr};
+
+/// Tracks one temporary file from its creation until it is renamed or removed.
+class PendingTemp {
+  public:
+    PendingTemp(const fs::path& dir, const std::string& tmp) {
+        std::error_code ec;
+        const std::string full = (fs::absolute(dir, ec) / tmp).string();
+        if (ec || full.size() >= PATH_MAX) return;
+        for (int i = 0; i < kPendingSlots; ++i) {
+            int expected = 0;
+            if (gPending[i].state.compare_exchange_strong(expected, 1)) {
+                std::memcpy(gPending[i].path, full.c_str(), full.size() + 1);
+                gPending[i].state.store(2, std::memory_order_release);
+                mSlot = i;
+                return;
+            }
+        }
+    }
+    ~PendingTemp() { done(); }
+    PendingTemp(const PendingTemp&) = delete;
+    PendingTemp& operator=(const PendingTemp&) = delete;
+    /// The file is renamed or removed: no longer the handler's.
+    void done() {
+        if (mSlot >= 0) gPending[mSlot].state.store(0, std::memory_order_release);
+        mSlot = -1;
+    }
+
+  private:
+    int mSlot = -1;
+};
+
+/// The pid in a temporary name of `name` (".NAME.PID.N.tmp", see detail::temporaryName), or 0
+/// when `entry` is not one.
+pid_t temporaryNamePid(const std::string& entry, const std::string& name) {
+    const std::string prefix = "." + name.substr(0, 180) + ".";
+    if (entry.size() <= prefix.size() + 4 || entry.compare(0, prefix.size(), prefix) != 0 ||
+        entry.compare(entry.size() - 4, 4, ".tmp") != 0)
+        return 0;
+    const std::string rest = entry.substr(prefix.size(), entry.size() - prefix.size() - 4);
+    const size_t dot = rest.find('.');
+    if (dot == 0 || dot == std::string::npos || dot > 9 ||
+        rest.find_first_not_of("0123456789.") != std::string::npos ||
+        rest.find('.', dot + 1) != std::string::npos || dot + 1 == rest.size())
+        return 0;
+    return pid_t(std::stol(rest.substr(0, dot)));
+}
+
+/// Removes the temporary files of `name` in the folder that a process killed outright left:
+/// their process is gone and they have not changed for 10 s (so a writer on another machine
+/// sharing the folder, whose pid means nothing here, is left alone while it writes).
+void removeAbandonedTemporaries(int dirFd, const std::string& name) {
+    const int fd = ::dup(dirFd);
+    if (fd < 0) return;
+    DIR* d = ::fdopendir(fd);
+    if (!d) {
+        ::close(fd);
+        return;
+    }
+    ::rewinddir(d);
+    const std::time_t now = std::time(nullptr);
+    while (const dirent* e = ::readdir(d)) {
+        const pid_t pid = temporaryNamePid(e->d_name, name);
+        if (pid <= 0 || pid == ::getpid()) continue;
+        if (::kill(pid, 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to tell
+        struct stat st {};
+        if (::fstatat(dirFd, e->d_name, &st, AT_SYMLINK_NOFOLLOW) != 0 || !S_ISREG(st.st_mode))
+            continue;
+        if (now - st.st_mtime < 10) continue;
+        ::unlinkat(dirFd, e->d_name, 0);
+    }
+    ::closedir(d);
+}
+
 fs::path folderOf(const fs::path& path) {
     return path.has_parent_path() ? path.parent_path() : fs::path(".");
 }
@@ -85,6 +174,7 @@ void writeFileAtomically(const fs::path& path, std::string_view bytes, bool dura
     FdGuard dirFd(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
     if (dirFd.get() < 0) fail(path, "cannot open its folder " + dir.string(), errno);
     requireReplaceable(dirFd.get(), path);
+    removeAbandonedTemporaries(dirFd.get(), name);
 
     std::string tmp;
     int fd = -1;
@@ -98,11 +188,14 @@ void writeFileAtomically(const fs::path& path, std::string_view bytes, bool dura
         fail(path, "cannot create a temporary file in " + dir.string(), err);
     }
     FdGuard file(fd);
+    PendingTemp pending(dir, tmp);
     auto failAndRemove = [&](const std::string& what, int err) {
         if (file.get() >= 0) file.closeNow();
         ::unlinkat(dirFd.get(), tmp.c_str(), 0);
+        pending.done();
         fail(path, what, err);
     };
+    if (auto hook = gAfterTemporaryCreated.load()) hook((dir / tmp).c_str());
 
     size_t done = 0;
     while (done < bytes.size()) {
@@ -118,6 +211,7 @@ void writeFileAtomically(const fs::path& path, std::string_view bytes, bool dura
     if (file.closeNow() != 0) failAndRemove("cannot write", errno);
     if (::renameat(dirFd.get(), tmp.c_str(), dirFd.get(), name.c_str()) != 0)
         failAndRemove("cannot replace", errno);
+    pending.done();
     if (durable && ::fsync(dirFd.get()) != 0)
         fail(path, "was replaced, but its folder could not be flushed to disk", errno);
 }
@@ -195,6 +289,11 @@ void ensureWritable(const fs::path& path) {
     requireReplaceable(dirFd.get(), path);
 }
 
+void removeTemporaryFilesInProgress() noexcept {
+    for (PendingSlot& slot : gPending)
+        if (slot.state.load(std::memory_order_acquire) == 2) ::unlink(slot.path);
+}
+
 namespace detail {
 
 std::string temporaryName(const std::string& fileName, uint64_t n) {
@@ -205,6 +304,10 @@ std::string temporaryName(const std::string& fileName, uint64_t n) {
 
 void setNextTemporaryNumber(uint64_t n) {
     tempCounter().store(n, std::memory_order_relaxed);
+}
+
+void setAfterTemporaryCreated(void (*hook)(const char* temporaryPath)) {
+    gAfterTemporaryCreated.store(hook);
 }
 
 }  // namespace detail

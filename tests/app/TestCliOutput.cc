@@ -6,6 +6,7 @@
 #include "vsculpt/app/Log.h"
 #include "vsculpt/app/ProgressBar.h"
 #include "vsculpt/app/RenderStill.h"
+#include "vsculpt/core/WriteFileAtomically.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -20,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -366,6 +369,39 @@ TEST(CliOutput, OutputsThatWouldOverwriteTheRunsOwnFilesAreRefused) {
              (project / "exports" / "s.obj").string()});
     EXPECT_EQ(r.code, 0) << r.err;
     EXPECT_TRUE(fs::exists(project / "exports" / "s.obj"));
+    fs::remove_all(dir);
+}
+
+}  // namespace
+
+namespace {
+
+// Ctrl-C or a kill during an export: the process ends as the signal says, and neither the
+// export nor its hidden temporary file is left (a fine export's is hundreds of MB). The
+// write is stopped with SIGTERM right after its temporary file is made.
+TEST(CliOutput, AnInterruptedWriteLeavesNoTemporaryFile) {
+    const fs::path dir = scratchDir("interrupt");
+    std::ofstream(dir / "out.stl") << "old";
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        vsculpt::app::removeTemporaryFilesOnInterrupt();
+        vsculpt::core::detail::setAfterTemporaryCreated([](const char*) { ::raise(SIGTERM); });
+        try {
+            vsculpt::core::writeFileAtomically(dir / "out.stl", std::string(1 << 20, 'x'), false);
+        } catch (...) {
+        }
+        ::_exit(3);  // not reached: the signal ends the process
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    ASSERT_TRUE(WIFSIGNALED(status)) << status;
+    EXPECT_EQ(WTERMSIG(status), SIGTERM);
+    std::vector<std::string> left;
+    for (const auto& e : fs::directory_iterator(dir))
+        left.push_back(e.path().filename().string());
+    EXPECT_EQ(left, std::vector<std::string>{"out.stl"});
+    EXPECT_EQ(readFile(dir / "out.stl"), "old");
     fs::remove_all(dir);
 }
 

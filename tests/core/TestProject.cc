@@ -254,6 +254,65 @@ TEST(WriteFileAtomically, NeverOpensOrFollowsWhatIsPlantedAtATemporaryName) {
     EXPECT_EQ(listDir(dir.path).size(), 5u);  // target, victim, the three planted
 }
 
+// A process killed outright (SIGKILL) leaves its temporary file; the next write to that name
+// removes it, but only once its process is gone and it has been still for 10 s. Other names,
+// live processes' files and fresh files stay.
+TEST(WriteFileAtomically, TemporariesAbandonedByDeadProcessesAreRemoved) {
+    TempDir dir;
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) ::_exit(0);
+    ASSERT_EQ(::waitpid(child, nullptr, 0), child);  // a pid that is gone
+    const std::string dead = std::to_string(child), live = std::to_string(::getppid());
+    auto plant = [&](const std::string& name, bool old) {
+        writeFile(dir.path / name, "partial");
+        if (old) {
+            const timespec times[2] = {{std::time(nullptr) - 60, 0}, {std::time(nullptr) - 60, 0}};
+            ASSERT_EQ(::utimensat(AT_FDCWD, (dir.path / name).c_str(), times, 0), 0);
+        }
+    };
+    plant(".out.txt." + dead + ".7.tmp", true);    // abandoned: removed
+    plant(".out.txt." + dead + ".8.tmp", false);   // still changing: kept
+    plant(".out.txt." + live + ".9.tmp", true);    // its process lives: kept
+    plant(".other.txt." + dead + ".7.tmp", true);  // another target's: kept
+    plant(".out.txt." + dead + ".x.tmp", true);    // not a temporary name: kept
+    writeFileAtomically(dir.path / "out.txt", "new", false);
+    EXPECT_EQ(readFile(dir.path / "out.txt"), "new");
+    const std::vector<std::string> expected = {
+        ".other.txt." + dead + ".7.tmp", ".out.txt." + dead + ".8.tmp",
+        ".out.txt." + dead + ".x.tmp", ".out.txt." + live + ".9.tmp", "out.txt"};
+    std::vector<std::string> found = listDir(dir.path);
+    std::sort(found.begin(), found.end());
+    std::vector<std::string> want = expected;
+    std::sort(want.begin(), want.end());
+    EXPECT_EQ(found, want);
+}
+
+// What a SIGINT or SIGTERM handler calls: the temporary file of a write in progress is removed
+// (here the write is stopped right after creating it), and nothing else.
+TEST(WriteFileAtomically, TheTemporaryFileOfAWriteInProgressCanBeRemoved) {
+    TempDir dir;
+    writeFile(dir.path / "out.txt", "old");
+    static std::string seen;
+    static bool existedThen = false;
+    detail::setAfterTemporaryCreated([](const char* tmp) {
+        seen = tmp;
+        existedThen = ::access(tmp, F_OK) == 0;
+        removeTemporaryFilesInProgress();
+        throw std::runtime_error("interrupted");  // the process would end here
+    });
+    EXPECT_THROW(writeFileAtomically(dir.path / "out.txt", "new", false), std::runtime_error);
+    detail::setAfterTemporaryCreated(nullptr);
+    EXPECT_TRUE(existedThen) << seen;
+    EXPECT_FALSE(fs::exists(seen)) << seen;
+    EXPECT_EQ(listDir(dir.path), std::vector<std::string>{"out.txt"});
+    EXPECT_EQ(readFile(dir.path / "out.txt"), "old");
+    // Once a write is done its file is no longer the handler's to remove.
+    writeFileAtomically(dir.path / "out.txt", "new", false);
+    removeTemporaryFilesInProgress();
+    EXPECT_EQ(readFile(dir.path / "out.txt"), "new");
+}
+
 TEST(WriteFileAtomically, ASymlinkAtTheTargetIsReplacedNotWrittenThrough) {
     TempDir dir;
     const fs::path target = dir.path / "out.txt", victim = dir.path / "victim.txt";

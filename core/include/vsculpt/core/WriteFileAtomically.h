@@ -46,6 +46,14 @@ class FileWriteError : public std::runtime_error {
 /// place but perhaps not on disk, and the message says so.
 void writeFileAtomically(const std::filesystem::path& path, std::string_view bytes, bool durable);
 
+/// Removes the temporary files of the writeFileAtomically calls in progress in this process
+/// (replaceWithHardLink's exist for an instant only). Async-signal-safe: for a SIGINT or SIGTERM
+/// handler that then ends the process, so an export interrupted with Ctrl-C leaves no hidden
+/// temporary file behind (one of hundreds of MB for a fine export). A process killed outright
+/// (SIGKILL, a crash) leaves its temporary file; the next write to the same name in that folder
+/// removes it once its process is gone and it has not changed for 10 s.
+void removeTemporaryFilesInProgress() noexcept;
+
 /// Gives the file `existing` the additional name `target` (a hard link), replacing whatever
 /// `target` named, in one step: `target` is never missing in between, and `existing` is not
 /// touched. The two names then share one file: writing through either changes both, while
@@ -81,6 +89,9 @@ std::string temporaryName(const std::string& fileName, uint64_t n);
 /// ...and the number the next attempt uses (counting up from there; random at start-up), so a
 /// test can plant files and symlinks exactly where the next attempts will go.
 void setNextTemporaryNumber(uint64_t n);
+/// For tests: called (when set) once writeFileAtomically has created and tracked its temporary
+/// file, with that file's path, before any byte is written: a test can interrupt a write there.
+void setAfterTemporaryCreated(void (*hook)(const char* temporaryPath));
 }  // namespace detail
 
 }  // namespace vsculpt::core

@@ -295,10 +295,14 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     try {
         cli.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        // CLI11 prints help/version to out and usage errors to err with its own exit codes.
-        const int code = cli.exit(e, out, err) == 0 ? 0 : 2;
-        if (code != 0) {
-            // A mistyped subcommand or option: name the nearest real one.
+        // Help and version: CLI11 prints them to out. Usage errors: to err, in the form of
+        // every other message ("vsculpt: error: ..."), exit code 2.
+        if (e.get_exit_code() == 0) return cli.exit(e, out, err);
+        const int code = 2;
+        err << "vsculpt: error: " << e.what() << "\nRun with --help for more information.\n";
+        // A mistyped subcommand or option (not a bad value of a real one): name the nearest.
+        const bool unknownWord = dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr;
+        if (unknownWord) {
             for (int i = 1; i < argc; ++i) {
                 const std::string arg = argv[i];
                 if (std::string(e.what()).find(arg) == std::string::npos) continue;

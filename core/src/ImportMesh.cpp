@@ -442,6 +442,9 @@ double parseImportUnit(std::string_view text) {
     if (ec == std::errc() && p == text.data() + text.size() && std::isfinite(v) && v > 0 &&
         v <= 1e6)
         return v;
+    if (ec == std::errc() && p == text.data() + text.size())  // a number, out of range
+        throw std::invalid_argument("unit '" + std::string(text) +
+                                    "' is out of range: give more than 0 to 1e6 mm per unit");
     throw std::invalid_argument("unknown unit '" + std::string(text) +
                                 "' (use mm, cm, m, in or a number of mm per unit)");
 }

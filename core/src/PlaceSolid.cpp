@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <mutex>
 #include <random>
@@ -260,16 +261,23 @@ SolidPlacement placeSolid(Sculpture& sculpture, const Mesh& solid, int level,
         const double l = std::floor(bounds.min[a] / h - outside);
         const double u = std::ceil(bounds.max[a] / h + outside);
         if (l < -kMaxLatticeCoord || u > kMaxLatticeCoord)
-            throw std::invalid_argument("solid lies beyond the lattice range of level " +
-                                        std::to_string(level) + " (choose a larger level)");
+            throw std::invalid_argument(
+                "solid lies beyond the lattice range of level " + std::to_string(level) +
+                (level < kLevelCount ? " (choose a larger level)" : " (make it smaller)"));
         (&lo.x)[a] = int32_t(l);
         (&hi.x)[a] = int32_t(u);
         count *= int64_t(u - l + 1);
         if (count > kMaxSolidVertices)
             throw std::invalid_argument(
                 "solid too large for level " + std::to_string(level) + " (" +
-                std::to_string(tl.spacingMm) +
-                " mm spacing): more than 2^25 lattice vertices; choose a larger level");
+                [&] {
+                    char b[32];
+                    std::snprintf(b, sizeof b, "%.4g", tl.spacingMm);
+                    return std::string(b);
+                }() +
+                " mm spacing): more than 2^25 lattice vertices; " +
+                (level < kLevelCount ? std::string("choose a larger level")
+                                     : std::string("make it smaller (level 7 is the largest)")));
     }
     const int nx = hi.x - lo.x + 1, ny = hi.y - lo.y + 1, nz = hi.z - lo.z + 1;
 

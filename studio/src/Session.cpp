@@ -486,7 +486,10 @@ int Session::commitSolid(SolidPlacement placed, const Aabb& takenBox) {
         revertChanges(*mSculpture, placed.changes);
         throw SessionError("solid changes " + std::to_string(placed.changes.size()) +
                            " lattice vertices at level " + std::to_string(placed.level) +
-                           ", more than one edit can hold; choose a larger level");
+                           ", more than one edit can hold; " +
+                           (placed.level < core::kLevelCount
+                                ? std::string("choose a larger level")
+                                : std::string("make it smaller (level 7 is the largest)")));
     }
     if (placed.changes.empty()) return placed.level;  // already clay everywhere: no step
     if (!takenBox.empty()) meshChanged(takenBox);

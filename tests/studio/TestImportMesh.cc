@@ -312,6 +312,21 @@ TEST_F(ImportMesh, UnitsAndUpAxesAsDocumented) {
     EXPECT_EQ(core::parseImportUnit("0.5"), 0.5);
     EXPECT_THROW(core::parseImportUnit("furlong"), std::invalid_argument);
     EXPECT_THROW(core::parseImportUnit("-1"), std::invalid_argument);
+    // A number out of range is said to be that, not an unknown unit.
+    for (const char* bad : {"0", "-1", "1e9"}) {
+        try {
+            core::parseImportUnit(bad);
+            ADD_FAILURE() << bad;
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find("is out of range"), std::string::npos) << e.what();
+        }
+    }
+    try {
+        core::parseImportUnit("furlong");
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("unknown unit 'furlong'"), std::string::npos)
+            << e.what();
+    }
 }
 
 TEST_F(ImportMesh, NodeTransformsAreApplied) {

@@ -205,7 +205,8 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
             "the finest detail sculpted, as the windows' export takes it (default: zoom 1's; "
             "an export that loses finer detail says which spacing keeps it)")
         ->type_name("MM|detail")
-        ->check(orWord("detail", numberIn(0, 1000, "mm", /*loOpen=*/true)));
+        ->check(orWord("detail", numberIn(0, PlayOptions::kMaxExportSpacingMm, "mm",
+                                          /*loOpen=*/true)));
     playCmd->add_flag("!--no-progress", play.progress, "No progress bar");
     playCmd->add_option("--shot", play.shotPath,
                         "Render the final frame with OpenGL to a PNG (needs a display; "

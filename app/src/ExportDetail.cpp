@@ -44,6 +44,18 @@ ExportDetail exportDetail(const Session& session, double zoom1Mm) {
     return out;
 }
 
+double wholeMeshFinestSpacing(const Session& session) {
+    const Aabb bounds = session.sculpture().supportBounds();
+    if (bounds.empty()) return 0;
+    double extent = 0;
+    for (int a = 0; a < 3; ++a)
+        extent = std::max(extent, bounds.max[a] - bounds.min[a]);
+    // As exportDetail: 24 cells are left for the grid's margins and its rounding to 16.
+    const double fit = extent / (Session::kWholeMeshMaxCells - 24);
+    const double unit = std::pow(10.0, std::floor(std::log10(fit)) - 2);
+    return std::ceil(fit / unit) * unit;
+}
+
 std::string exportDetailWarning(const Session& session, double spacing) {
     const ExportDetail d = exportDetail(session, spacing);
     if (d.zoom == 0 || spacing <= d.detailMm * (1 + 1e-9)) return {};

@@ -2,6 +2,7 @@
 #include "vsculpt/app/RenderStill.h"
 
 #include "vsculpt/app/CliChecks.h"
+#include "vsculpt/app/ExportDetail.h"
 #include "vsculpt/app/ProgressBar.h"
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/core/WriteFileAtomically.h"
@@ -114,10 +115,27 @@ int runRenderStill(const RenderOptions& o, std::ostream& out, std::ostream& err)
     }
     const Session* session = &studio->session();
     try {
-        const double spacing = o.spacingMm > 0
-                                   ? o.spacingMm
-                                   : core::zoomSpacing(session->sculpture().config(),
-                                                       session->sculpture().levels(), 3);
+        double spacing = o.spacingMm > 0 ? o.spacingMm
+                                         : core::zoomSpacing(session->sculpture().config(),
+                                                             session->sculpture().levels(), 3);
+        // A sculpture too large for the whole-sculpture grid at that spacing: by default the
+        // finest the grid allows, said; a given --spacing is refused with the value that works.
+        if (const double fit = wholeMeshFinestSpacing(*session); fit > spacing) {
+            const double across = fit * (Session::kWholeMeshMaxCells - 24);
+            if (o.spacingMm > 0) {
+                spdlog::error(
+                    "--spacing {:.3g}: the sculpture is {:.4g} mm across, more than the "
+                    "whole-sculpture grid's {} cells per axis hold at that spacing: give "
+                    "--spacing {:.3g} or more",
+                    spacing, across, Session::kWholeMeshMaxCells, fit);
+                return 2;
+            }
+            spdlog::warn(
+                "the sculpture is {:.4g} mm across, more than the whole-sculpture grid's {} "
+                "cells per axis hold at {:.3g} mm: meshing at {:.3g} mm",
+                across, Session::kWholeMeshMaxCells, spacing, fit);
+            spacing = fit;
+        }
         const auto meshStart = std::chrono::steady_clock::now();
         const core::Mesh mesh = session->wholeMesh(spacing);
         spdlog::debug("meshed at {:.3g} mm: {} triangles in {}", spacing, mesh.triangleCount(),

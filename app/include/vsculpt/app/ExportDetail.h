@@ -26,6 +26,11 @@ struct ExportDetail {
 /// @param zoom1Mm the zoom-1 spacing: keepingMm when nothing finer was made.
 ExportDetail exportDetail(const studio::Session& session, double zoom1Mm);
 
+/// The finest spacing at which Session::wholeMesh can mesh the whole sculpture (its grid holds
+/// kWholeMeshMaxCells per axis, a few of them margin), rounded up to three significant digits;
+/// 0 for an empty sculpture.
+double wholeMeshFinestSpacing(const studio::Session& session);
+
 /// When an export at `spacingMm` cannot hold the session's finest detail: a sentence saying so
 /// and which --export-spacing would keep it; empty otherwise. The suggestion is
 /// exportDetail's keepingMm rounded to three digits (down to keep the detail, up to fit the

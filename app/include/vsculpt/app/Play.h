@@ -23,7 +23,8 @@ struct PlayOptions {
     /// that keeps the finest detail, app::exportDetail).
     double exportSpacingMm = 0;
     static constexpr double kExportSpacingDetail = -1;
-    bool progress = true;  ///< progress bar on a terminal
+    static constexpr double kMaxExportSpacingMm = 1000;  ///< --export-spacing's upper bound
+    bool progress = true;                                ///< progress bar on a terminal
     Verbosity verbosity = Verbosity::Normal;
     std::string shotPath;              ///< PNG of the final frame ("" = none)
     std::string stereo = "mono";       ///< mono, sbs or anaglyph

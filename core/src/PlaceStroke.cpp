@@ -357,6 +357,18 @@ EditResult StrokeBuilder::addSample(const Vec3& p) {
         throw std::invalid_argument(msg.str());
     }
     const Vec3 a = mLast.value_or(p);
+    // A sample sweeps the tool along the segment from the last one: a segment kilometres long
+    // (a script's typo) would visit lattice vertices by the hundred million and exhaust memory
+    // (a 2 km size-1 segment took 6.4 GB before failing). Refused before anything is placed.
+    const double spacings = glm::length(p - a) / mSculpture.levels().level(mLattice).spacingMm;
+    if (spacings > kMaxSegmentSpacings) {
+        std::ostringstream msg;
+        msg << "a stroke segment of " << glm::length(p - a) << " mm is more than one step can "
+            << "sweep at size " << mLevel << " (" << kMaxSegmentSpacings << " lattice spacings, "
+            << kMaxSegmentSpacings * mSculpture.levels().level(mLattice).spacingMm
+            << " mm): split the stroke or use a larger size";
+        throw std::invalid_argument(msg.str());
+    }
     mLast = p;
     mFinished = false;
     if (mOp == ToolOp::Smooth) return addSmoothSample(a, p);

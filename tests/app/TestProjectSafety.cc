@@ -329,7 +329,9 @@ TEST(ProjectSafety, BadOutputsAndSpacingsAreRefusedBeforeTheRun) {
     std::tie(code, log) =
         run({"play", script.string(), "--export-spacing", "1e-300", "--no-progress"}, dir);
     EXPECT_EQ(code, 2) << log;
-    EXPECT_NE(log.find("at most 1024 per axis"), std::string::npos) << log;
+    EXPECT_NE(log.find("1024 cells per axis hold at that spacing: give --export-spacing"),
+              std::string::npos)
+        << log;
 }
 
 }  // namespace

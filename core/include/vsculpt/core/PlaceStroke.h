@@ -69,6 +69,9 @@ struct EditResult {
 /// An in-progress stroke on one sculpture. Edits the sculpture as samples arrive.
 class StrokeBuilder {
   public:
+    /// The longest segment between two samples, in lattice spacings of the lattice the
+    /// weights go to: addSample refuses a longer one (std::invalid_argument).
+    static constexpr double kMaxSegmentSpacings = 20000;
     /// @param level tool level 1..7 (checked: std::invalid_argument)
     /// @param mirror also apply every swept segment mirrored across that plane, as part of
     ///        the same stroke (one undo step; decisions from the same pre-stroke field).
@@ -78,7 +81,8 @@ class StrokeBuilder {
     ~StrokeBuilder();
 
     /// Adds a tool-centre sample in object space (mm) and applies the swept segment from the
-    /// previous sample. Throws std::invalid_argument for a non-finite or out-of-range point.
+    /// previous sample. Throws std::invalid_argument for a non-finite or out-of-range point,
+    /// or one farther from the previous sample than kMaxSegmentSpacings.
     EditResult addSample(const Vec3& objectPos);
     /// Same for a world-space sample: objectPos = inverse(worldFromObject) * worldPos.
     EditResult addSampleWorld(const Vec3& worldPos, const RigidTransform& worldFromObject);

@@ -164,6 +164,8 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
     try {
         if (isDeviceRecording(o.script)) {
             recording = devices::readRecording(o.script);
+            for (const std::string& w : recording->warnings)
+                spdlog::warn("{}", w);
             // A recording replays with the config it was recorded with (calibration, mapping,
             // tools), unless the user names another.
             const auto stored = recording->meta.find("config");

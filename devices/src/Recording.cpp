@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/devices/Recording.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
 #include <sstream>
@@ -106,8 +107,18 @@ Recording parseRecording(const std::string& text, const std::string& source) {
         throw RecordingError(source + ":" + std::to_string(lineNo) + ": " + why);
     };
     bool header = false;
+    // Every line the writer writes ends with '\n': a last line without one was cut short.
+    const bool cutShort = !text.empty() && text.back() != '\n';
+    const size_t lastLine = size_t(std::count(text.begin(), text.end(), '\n')) + 1;
     while (std::getline(in, line)) {
         ++lineNo;
+        if (cutShort && lineNo == lastLine && header) {
+            // Even a line that would parse may have lost bytes (a report's hex cut short).
+            rec.warnings.push_back(source + ":" + std::to_string(lineNo) +
+                                   ": the last line is cut short (the recording ended while "
+                                   "it was written): dropped");
+            break;
+        }
         if (!line.empty() && line.back() == '\r') line.pop_back();
         if (line.empty() || line[0] == '#') continue;
         if (!header) {

@@ -92,6 +92,31 @@ TEST(Recording, BadFilesAreRefusedWithFileAndLine) {
                 "r.vsrec:4: device after the first event");
 }
 
+// A recorder killed mid-write leaves its last line cut short: the events before it replay,
+// the cut line is dropped with a warning naming it (it may have lost bytes even when it
+// parses), and a file cut at a line's end replays whole, without a warning.
+TEST(Recording, ALastLineCutShortIsDroppedWithAWarning) {
+    const std::string head = "vsculpt-recording 1\ndevice m spacemouse hidraw 256f c635\n";
+    const std::string full = head + "10 m arrived 6f2535c6\n20 m report 0301000200\n";
+    const Recording whole = parseRecording(full, "r.vsrec");
+    ASSERT_EQ(whole.events.size(), 2u);
+    EXPECT_TRUE(whole.warnings.empty());
+    const size_t lastStart = full.rfind("20 m");
+    for (size_t cut = lastStart + 1; cut < full.size(); ++cut) {
+        const Recording r = parseRecording(full.substr(0, cut), "r.vsrec");
+        ASSERT_EQ(r.events.size(), 1u) << cut;
+        EXPECT_EQ(r.events[0].bytes, whole.events[0].bytes);
+        ASSERT_EQ(r.warnings.size(), 1u) << cut;
+        EXPECT_NE(r.warnings[0].find("r.vsrec:4: the last line is cut short"), std::string::npos)
+            << r.warnings[0];
+    }
+    const Recording atLineEnd = parseRecording(full.substr(0, lastStart), "r.vsrec");
+    EXPECT_EQ(atLineEnd.events.size(), 1u);
+    EXPECT_TRUE(atLineEnd.warnings.empty());
+    // A bad line that ends with its newline is still refused: only a cut is forgiven.
+    expectError(head + "20 m report 030\n", "r.vsrec:3: odd number of hex digits");
+}
+
 TEST(Recording, ArrivalBytesCarryTheUsbIds) {
     DeviceEvent e{DeviceEventKind::Arrived, 0, "m", arrivalBytes(0x0f44, 0xff20)};
     uint16_t v = 0, p = 0;

@@ -35,6 +35,9 @@ struct Recording {
     std::map<std::string, std::string> meta;
     std::vector<DeviceRule> devices;
     std::vector<DeviceEvent> events;
+    /// What was read past, for the user ("FILE:LINE: ..."): a last line cut short, as a
+    /// recorder killed mid-write leaves it, is dropped rather than refusing the recording.
+    std::vector<std::string> warnings;
 };
 
 /// Writes a recording as events come. The header goes out on construction; every write is

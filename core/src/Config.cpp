@@ -9,9 +9,11 @@
 
 #include <algorithm>
 #include <bit>
+#include <cerrno>
 #include <climits>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -571,9 +573,11 @@ SculptConfig loadConfig(const std::filesystem::path& path) {
         throw ConfigError(path.string() + ": cannot open config file: it is a folder");
     std::ifstream in(path, std::ios::binary);
     if (!in) {
+        const int err = errno;  // ifstream leaves open()'s errno
         const char* env = envValue("VSCULPT_CONFIG");
         throw ConfigError(
             path.string() + ": cannot open config file" +
+            (err ? ": " + std::string(std::strerror(err)) : "") +
             (env && path == std::filesystem::path(env) ? " (named by $VSCULPT_CONFIG)" : ""));
     }
     std::ostringstream text;

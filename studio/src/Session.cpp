@@ -78,6 +78,9 @@ std::unique_ptr<Session> Session::openProject(const std::filesystem::path& dir,
             throw ProjectError(dir.string() + ": not a vsculpt project (no " +
                                snapshotPath(dir).filename().string() + ")");
     } else {
+        if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
+            throw ProjectError(dir.string() +
+                               ": is a file, not a project folder (a project is a folder)");
         std::filesystem::create_directories(dir, ec);
         if (ec)
             throw ProjectError(dir.string() + ": cannot create project folder: " + ec.message());

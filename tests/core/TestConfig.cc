@@ -498,7 +498,9 @@ TEST(Config, LookupOrder) {
             ADD_FAILURE() << "a missing $VSCULPT_CONFIG was accepted";
         } catch (const ConfigError& e) {
             EXPECT_EQ(std::string(e.what()),
-                      missing + ": cannot open config file (named by $VSCULPT_CONFIG)");
+                      missing +
+                          ": cannot open config file: No such file or directory (named by "
+                          "$VSCULPT_CONFIG)");
         }
     }
     {

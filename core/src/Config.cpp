@@ -322,8 +322,40 @@ SculptConfig parseConfigText(std::string_view jsonText, const std::string& sourc
                              bool stored) {
     if (const auto deep = jsonNestingBeyond(jsonText)) throw ConfigError(sourceName + ":" + *deep);
     json root;
+    // A key given twice in one object: JSON keeps the last silently, so the first setting the
+    // user wrote would be ignored without a word. Found while parsing, named by its path.
+    struct Frame {
+        bool object = false;
+        std::string name;
+        std::set<std::string> keys;
+    };
+    std::vector<Frame> frames;
+    std::string lastKey, duplicate;
+    const auto findDuplicates = [&](int, json::parse_event_t event, json& parsed) {
+        using E = json::parse_event_t;
+        if (event == E::object_start || event == E::array_start) {
+            frames.push_back(Frame{event == E::object_start, lastKey, {}});
+            lastKey.clear();
+        } else if (event == E::object_end || event == E::array_end) {
+            if (!frames.empty()) frames.pop_back();
+        } else if (event == E::key) {
+            lastKey = parsed.get<std::string>();
+            if (!frames.empty() && frames.back().object &&
+                !frames.back().keys.insert(lastKey).second && duplicate.empty()) {
+                for (size_t i = 1; i < frames.size(); ++i)
+                    duplicate += frames[i].name.empty()
+                                     ? "[]"
+                                     : (duplicate.empty() ? "" : ".") + frames[i].name;
+                duplicate += (duplicate.empty() ? "" : ".") + lastKey;
+            }
+        } else {
+            lastKey.clear();
+        }
+        return true;
+    };
     try {
-        root = json::parse(jsonText, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+        root = json::parse(jsonText, findDuplicates, /*allow_exceptions=*/true,
+                           /*ignore_comments=*/true);
     } catch (const json::out_of_range& e) {
         // A number past a double's range (1e400): the parser's only other complaint.
         throw ConfigError(sourceName + ": invalid JSON: " + printableText(e.what(), 240));
@@ -336,6 +368,10 @@ SculptConfig parseConfigText(std::string_view jsonText, const std::string& sourc
         throw ConfigError(sourceName + ":" + lineColumn(jsonText, at) +
                           ": invalid JSON: " + printableText(what, 240));
     }
+
+    if (!duplicate.empty())
+        throw ConfigError(sourceName + ": " + duplicate +
+                          ": given twice in one object (JSON would keep only the last)");
 
     SculptConfig cfg;
     cfg.source = sourceName;

@@ -157,6 +157,31 @@ TEST(Config, AStoredConfigWithoutTheSpheresCoreKeepsTheOneSkeletonSphere) {
                  ConfigError);
 }
 
+// JSON keeps the last of a key given twice; the first setting the user wrote would be
+// ignored without a word. Refused, naming the key's path (arrays as []); the same key in
+// different objects is fine.
+TEST(Config, AKeyGivenTwiceInOneObjectIsRefused) {
+    auto why = [](const std::string& text) {
+        try {
+            parseConfig(text, "user.json");
+        } catch (const ConfigError& e) {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    EXPECT_EQ(why(R"({"interaction": {"bindings": {"undo": "U", "undo": "Y"}}})"),
+              "user.json: interaction.bindings.undo: given twice in one object (JSON would keep "
+              "only the last)");
+    EXPECT_EQ(why(R"({"zoom": {}, "zoom": {}})"),
+              "user.json: zoom: given twice in one object (JSON would keep only the last)");
+    EXPECT_EQ(why(R"({"devices": {"match": [{"name": "a"}, {"name": "b", "name": "c"}]}})"),
+              "user.json: devices.match[].name: given twice in one object (JSON would keep only "
+              "the last)");
+    EXPECT_EQ(
+        why(R"({"interaction": {"bindings": {"undo": "U"}, "sketch_bindings": {"undo": "Y"}}})"),
+        "accepted");
+}
+
 TEST(Config, ReadsTheHeadsetSection) {
     const SculptConfig c = parseConfig(R"({"render": {"output": "xr", "xr": {
         "sculpture_in_local_m": [0.1, -0.3, -0.6], "pen_tip_mm": 25, "trigger_threshold": 0.3,

@@ -145,7 +145,7 @@ fi
 cp "$src/examples/mug.vsc" "$work/"
 expect 0 "watertight" -- "$vs" play mug.vsc --out mug.stl --no-progress
 # The lookup order (docs/config.md): $VSCULPT_CONFIG, then the per-user file.
-expect 2 "$tmp/missing.json: cannot open config file (named by \$VSCULPT_CONFIG)" -- "VSCULPT_CONFIG=$tmp/missing.json" "$vs" info
+expect 2 "$tmp/missing.json: cannot open config file: No such file or directory (named by \$VSCULPT_CONFIG)" -- "VSCULPT_CONFIG=$tmp/missing.json" "$vs" info
 mkdir -p "$home/.config/vsculpt"
 cp "$prefix/share/vsculpt/sculpt.json" "$home/.config/vsculpt/sculpt.json"
 expect 0 "config: $home/.config/vsculpt/sculpt.json" -- "$vs" info

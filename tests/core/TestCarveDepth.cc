@@ -121,7 +121,12 @@ Stats sphereStroke(ToolOp op, int level, double pen, const Direction& dir,
 
 /// Clay built from many strokes of sizes 4-6: a slab whose top undulates around z ~ 15.
 std::unique_ptr<Sculpture> makeClay() {
-    auto s = std::make_unique<Sculpture>(emptyConfig(PlacementMode::Swept));
+    SculptConfig cfg = emptyConfig(PlacementMode::Swept);
+    // VSCULPT_CLAY_FINER_LEVELS=k: the slab itself built with placement.finer_lattice_levels
+    // = k, as a project at that setting would build it (docs/placement.md "Finer lattices").
+    if (const char* e = std::getenv("VSCULPT_CLAY_FINER_LEVELS"))
+        cfg.finerLatticeLevels = std::atoi(e);
+    auto s = std::make_unique<Sculpture>(cfg);
     int i = 0;
     for (double z : {-16.0, -8.0, 0.0, 8.0})
         for (double y = -30; y <= 30; y += 6, ++i)

@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/app/Cli.h"
-#include "vsculpt/core/WriteFileAtomically.h"
 
 #include "vsculpt/app/DeviceCommands.h"
 #include "vsculpt/app/Log.h"
@@ -12,6 +11,7 @@
 #include "vsculpt/core/Config.h"
 #include "vsculpt/core/NearestName.h"
 #include "vsculpt/core/Sculpture.h"
+#include "vsculpt/core/WriteFileAtomically.h"
 
 #include <CLI/CLI.hpp>
 

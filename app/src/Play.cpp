@@ -71,13 +71,6 @@ std::string outputClash(const std::vector<std::pair<std::string, std::string>>& 
     return "";
 }
 
-bool isDeviceRecording(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::string first;
-    std::getline(in, first);
-    return first.rfind("vsculpt-recording", 0) == 0;
-}
-
 std::string hex(uint64_t v) {
     char b[17];
     std::snprintf(b, sizeof b, "%016llx", static_cast<unsigned long long>(v));
@@ -162,7 +155,7 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
     std::optional<devices::Recording> recording;
     SculptConfig cfg;
     try {
-        if (isDeviceRecording(o.script)) {
+        if (devices::isRecordingFile(o.script)) {
             recording = devices::readRecording(o.script);
             for (const std::string& w : recording->warnings)
                 spdlog::warn("{}", w);

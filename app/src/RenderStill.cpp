@@ -6,6 +6,7 @@
 #include "vsculpt/app/ProgressBar.h"
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/core/WriteFileAtomically.h"
+#include "vsculpt/devices/Recording.h"
 #include "vsculpt/render/RayTrace.h"
 
 #include <algorithm>
@@ -13,7 +14,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <ostream>
 #include <tuple>
 
@@ -94,17 +94,12 @@ int runRenderStill(const RenderOptions& o, std::ostream& out, std::ostream& err)
             if (!studio->session().recoveryWarning().empty())
                 spdlog::warn("{}", studio->session().recoveryWarning());
         } else {
-            {
-                std::ifstream probe(o.input, std::ios::binary);
-                std::string first;
-                std::getline(probe, first);
-                if (first.rfind("vsculpt-recording", 0) == 0)
-                    throw std::invalid_argument(
-                        o.input +
-                        ": a device recording; render takes a playback script or a project "
-                        "folder (replay the recording into one: vsculpt play " +
-                        o.input + " --project DIR, then vsculpt render DIR)");
-            }
+            if (devices::isRecordingFile(o.input))
+                throw std::invalid_argument(
+                    o.input +
+                    ": a device recording; render takes a playback script or a project "
+                    "folder (replay the recording into one: vsculpt play " +
+                    o.input + " --project DIR, then vsculpt render DIR)");
             const Script script = loadScript(o.input);
             // Through a studio, so sketch commands build their solids here too.
             studio = std::make_unique<Studio>(cfg);

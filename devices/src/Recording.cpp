@@ -199,6 +199,13 @@ Recording parseRecording(const std::string& text, const std::string& source) {
     return rec;
 }
 
+bool isRecordingFile(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::string first;
+    std::getline(in, first);
+    return first.rfind("vsculpt-recording", 0) == 0;
+}
+
 Recording readRecording(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw RecordingError(path.string() + ": cannot open");

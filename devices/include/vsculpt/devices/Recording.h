@@ -60,6 +60,9 @@ class RecordingWriter {
 /// Reads a whole recording; throws RecordingError("file:line: reason") on anything malformed:
 /// a missing header, an unknown device or kind, odd hex, an unknown driver.
 Recording readRecording(const std::filesystem::path& path);
+/// Whether the file starts like a recording (its first line is the magic), so a command that
+/// takes scripts or recordings can tell them apart; false when it cannot be read.
+bool isRecordingFile(const std::filesystem::path& path);
 /// The same from text (sourceName is used in messages).
 Recording parseRecording(const std::string& text, const std::string& sourceName);
 

@@ -282,6 +282,26 @@ double StrokeBuilder::preStrokeRawSum(const LatticeCoord& v, const Vec3& pos) {
     return raw;
 }
 
+double StrokeBuilder::preStrokeValueAt(const Vec3& pos) {
+    double raw = mProbe->rawSum(pos);
+    if (!mDeltas.empty()) {
+        const ToolLevel& tl = mSculpture.levels().level(mLattice);
+        const HermiteFalloff& F = mSculpture.levels().falloff();
+        const Vec3 q = pos / tl.spacingMm;
+        const double r = tl.supportMm / tl.spacingMm;
+        for (int x = int(std::ceil(q.x - r)); x <= int(std::floor(q.x + r)); ++x)
+            for (int y = int(std::ceil(q.y - r)); y <= int(std::floor(q.y + r)); ++y)
+                for (int z = int(std::ceil(q.z - r)); z <= int(std::floor(q.z + r)); ++z) {
+                    const auto it = mDeltas.find(LatticeCoord{x, y, z});
+                    if (it == mDeltas.end()) continue;
+                    const double dist = glm::length(pos - Vec3(x, y, z) * tl.spacingMm);
+                    if (dist < tl.supportMm)
+                        raw -= double(it->second) * F.value(dist / tl.supportMm);
+                }
+    }
+    return raw - mSculpture.levels().iso();
+}
+
 FieldSample StrokeBuilder::preStrokeSampleAt(const Vec3& pos) {
     FieldSample s = mProbe->sample(pos);
     s.value += mSculpture.levels().iso();

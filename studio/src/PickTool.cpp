@@ -51,7 +51,17 @@ ToolPick pickTool(const Session& s, const Vec3& origin, const Vec3& dir, double 
     FieldProbe probe(s.sculpture());
     ToolPick pick;
     double t = 0;
-    if (const auto hit = marchToSurface(probe, origin, dir, step, far)) {
+    // While a stroke goes on, the tool rests on the clay as it was before the stroke: on the
+    // live clay an add held still climbed its own clay toward the eye (a pillar hundreds of
+    // mm long in a second), and a carve sank into the hollow it made.
+    std::optional<double> hit;
+    if (s.inStroke()) {
+        for (double u = 0; u < far && !hit; u += step)
+            if (s.preStrokeValueAt(origin + u * dir) > 0) hit = u;
+    } else {
+        hit = marchToSurface(probe, origin, dir, step, far);
+    }
+    if (hit) {
         t = *hit;
         pick.surfaceHit = origin + t * dir;
     } else {

@@ -309,6 +309,12 @@ bool Session::apply(const ScriptCommand& c) {
         "sketch run them)");
 }
 
+double Session::preStrokeValueAt(const Vec3& objectPos) const {
+    if (mStroke) return mStroke->preStrokeValueAt(objectPos);
+    FieldProbe probe(*mSculpture);
+    return probe.value(objectPos);
+}
+
 void Session::setSize(int level) {
     if (!toolAllowedAtZoom(mConfig, mZoom, level)) {
         std::string allowed;

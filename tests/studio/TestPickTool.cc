@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Tool picking against the initial sphere, whose surface is known analytically.
+#include "vsculpt/core/EvalField.h"
 #include "vsculpt/studio/PickTool.h"
 #include "vsculpt/studio/Studio.h"
 
@@ -62,6 +63,33 @@ TEST(PickTool, MarchingStopsAtTheFirstClay) {
     EXPECT_NEAR(*t, 70, 0.5);
     EXPECT_FALSE(marchToSurface(probe, Vec3(-100, 0, 0), Vec3(-1, 0, 0), 0.25, 300));
     EXPECT_FALSE(marchToSurface(probe, Vec3(-100, 0, 0), Vec3(1, 0, 0), 0, 300));
+}
+
+// The pointer's tool held still with the button down, a sample a frame as the window sends
+// them: it rests on the clay as it was before the stroke, so an add makes one dab of the
+// tool's size and a carve pushed in by its radius one pit, however long it is held. On the
+// live clay the add climbed its own clay toward the eye (a pillar 300 mm long in a second).
+TEST(PickTool, AToolHeldStillDuringAStrokeMakesOneDab) {
+    for (ToolKind op : {ToolKind::Add, ToolKind::Carve}) {
+        Session s(test::smallConfig(30));
+        s.setTool(op);
+        s.setSize(6);
+        const double radius = 0.5 * s.sculpture().levels().level(6).diameterMm;
+        const Vec3 origin(0, -200, 0), dir(0, 1, 0), down(0, 0, -1);
+        const double depth = op == ToolKind::Add ? 0 : radius;  // the scroll wheel's push
+        s.beginStroke();
+        for (int frame = 0; frame < 60; ++frame)
+            s.strokeSample(pickTool(s, origin, dir, radius, depth, down).toolCentre, false);
+        s.endStroke();
+        core::FieldProbe probe(s.sculpture());
+        const auto t = marchToSurface(probe, origin, dir, 0.02, 400);
+        ASSERT_TRUE(t);
+        const double surfaceY = origin.y + *t;
+        // Add: a ball touching the sphere's front (y = -30), its far side 2 radii out. Carve:
+        // the tool centred on the front, the pit's bottom a radius in.
+        const double expected = op == ToolKind::Add ? -30 - 2 * radius : -30 + radius;
+        EXPECT_NEAR(surfaceY, expected, 0.08 * radius) << int(op);
+    }
 }
 
 }  // namespace

@@ -104,6 +104,10 @@ class StrokeBuilder {
     /// Every vertex change so far, one per vertex (before: the state before the stroke,
     /// after: the current one).
     const std::vector<SkeletonChange>& changes() const { return mChanges; }
+    /// f - c at `objectPos` (mm) as it was before this stroke: positive inside that clay.
+    /// What a pointer resting on the surface follows while the stroke goes on, so that it
+    /// neither climbs the clay the stroke adds nor sinks into what it carves.
+    double preStrokeValueAt(const Vec3& objectPos);
     /// Hands the changes over. @pre finish() was called after the last sample (a stroke that
     /// placed something is complete only then): std::logic_error otherwise.
     std::vector<SkeletonChange> takeChanges();

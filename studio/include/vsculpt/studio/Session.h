@@ -105,6 +105,9 @@ class Session {
     void strokeSample(const core::Vec3& point, bool world);
     void endStroke();
     bool inStroke() const { return mStroke != nullptr; }
+    /// f - c at `objectPos` as it was before the stroke in progress (the live field when
+    /// none is): positive inside that clay (core::StrokeBuilder::preStrokeValueAt).
+    double preStrokeValueAt(const core::Vec3& objectPos) const;
     /// Adds a closed solid (object space, mm; PlaceSolid.h) as clay on one level's lattice:
     /// one undo step, journaled. @param level 1..7, or 0 to choose from the solid's size.
     /// Returns the level used. Throws std::invalid_argument for a bad mesh or level and

@@ -249,6 +249,30 @@ TEST(WindowUi, ClicksOnTheUiChangeSizeToolAndZoomWithoutSculpting) {
     EXPECT_EQ(zoomed.steps, 0u);
 }
 
+// The left button held on the sculpture without moving: one dab, however many frames it is
+// held. The tool rests on the clay as it was when the stroke began; on the live clay each
+// frame's sample climbed the clay the last one added (a pillar toward the eye, more clay every
+// frame).
+TEST(WindowUi, HoldingTheButtonStillMakesOneDab) {
+    auto hold = [](int frames) {
+        app::WindowOptions o = scratchWindow(frames + 6);
+        app::WindowOptions::Report report;
+        o.report = &report;
+        o.onFrame = [&](size_t frame, const app::UiState&, std::vector<InputEvent>& inject) {
+            if (frame == 2) inject.push_back(cursor(480, 320));
+            if (frame == 3) inject.push_back(leftButton(true));
+            if (frame == size_t(3 + frames)) inject.push_back(leftButton(false));
+        };
+        std::ostringstream out, err;
+        EXPECT_EQ(app::runWindow(o, out, err), 0) << err.str();
+        EXPECT_EQ(report.steps, 1u);
+        return report.skeletons;
+    };
+    const size_t brief = hold(2), held = hold(30);
+    EXPECT_GT(brief, 0u);
+    EXPECT_EQ(held, brief);
+}
+
 TEST(WindowUi, TypingInTheExportDialogRunsNoBindingsAndErrorsStayInTheDialog) {
     const fs::path dir = std::filesystem::temp_directory_path() /
                          ("vsculpt-ui-export-" + std::to_string(::getpid()));

@@ -271,6 +271,18 @@ std::string Rig::projectSummary() const {
     return o.str();
 }
 
+std::string Rig::recoveryMessage() const {
+    const Session& s = mStudio->session();
+    std::string m;
+    if (s.recoveredEdits() > 0)
+        m = "recovered " + std::to_string(s.recoveredEdits()) + " edit(s); F8 starts a new project";
+    if (const std::string& w = s.recoveryWarning(); !w.empty()) {
+        // Its first line names what was lost and where the damaged file is kept.
+        m += (m.empty() ? "" : "; ") + std::string("warning: ") + w.substr(0, w.find('\n'));
+    }
+    return m;
+}
+
 std::string Rig::save() {
     if (!mStudio->saveInBackground()) return "nothing saved: no project";
     return "saving " + mStudio->session().projectDir()->string() + "...";

@@ -134,7 +134,9 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
     std::vector<glm::dvec2> modelStroke;  // pixels of the 3D view
     bool modelDrawing = false;
     bool tabletTouching = false;
-    std::string message = "TAB mode, I inflate, U undo";
+    // Recovery is reported on the panel too, as in the sculpting window.
+    std::string message = rig->recoveryMessage();
+    if (message.empty()) message = "TAB mode, I inflate, U undo";
     size_t commandIndex = 0, frame = 0;
     bool running = true;
     core::Aabb frameBox = rig->session().published()->bounds;
@@ -570,6 +572,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
         if (last) running = false;
     }
     if (o.uiReport) *o.uiReport = uiState;
+    if (o.messageReport) *o.messageReport = message;
     // Closing ends the stroke in flight (journaled like any other) and snapshots the project.
     rig->close();
     spdlog::info("{} frame(s), {} page(s), {} step(s), {} skeletons", frame,

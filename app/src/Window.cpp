@@ -104,10 +104,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
     }
     // Recovery is reported where the user looks: on the terminal and in the title bar.
     logLines(spdlog::level::info, rig->projectSummary());
-    std::string message = rig->session().recoveredEdits() > 0
-                              ? "recovered " + std::to_string(rig->session().recoveredEdits()) +
-                                    " edit(s); F8 starts a new project"
-                              : "";
+    std::string message = rig->recoveryMessage();
     // The rig's studio can change (save as, new project): these always fetch the current one.
     auto studioNow = [&]() -> Studio& { return rig->studio(); };
     auto sessionNow = [&]() -> const Session& { return rig->session(); };

@@ -3,7 +3,9 @@
 // playback script; the screenshot shows the sketch on paper at the left and the solid it made
 // (with a surface line drawn on the model) at the right.
 #include "vsculpt/app/SketchWindow.h"
+#include "vsculpt/app/Window.h"
 #include "vsculpt/render/Shot.h"
+#include "vsculpt/studio/Session.h"
 
 #include <gtest/gtest.h>
 
@@ -14,6 +16,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include <unistd.h>
 
 using namespace vsculpt;
 
@@ -244,6 +248,62 @@ TEST(SketchWindow, BadScriptIsRefusedWithTheLine) {
               std::string::npos)
         << err.str();
     std::filesystem::remove(script);
+}
+
+}  // namespace
+
+namespace {
+
+// A project reopened after a crash whose last journal record was cut short: both windows say
+// on their panel what was recovered and that a record was lost (the terminal said it before,
+// the sketch window's panel said nothing).
+TEST(SketchWindow, BothWindowsSayOnThePanelWhatWasRecoveredAndLost) {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                      ("vsculpt-recovery-panel-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    {
+        core::SculptConfig cfg;
+        cfg.polygonizer.gridN = 32;
+        auto s = studio::Session::openProject(dir, cfg);
+        s->stroke({core::Vec3(0, -42, 0), core::Vec3(8, -42, 4)}, false);
+        s->stroke({core::Vec3(0, 42, 0), core::Vec3(8, 42, 4)}, false);
+    }  // no save: both strokes are only in the journal
+    const auto journal = dir / "journal.vjl";
+    std::filesystem::resize_file(journal, std::filesystem::file_size(journal) - 7);
+    auto copy = [&](const char* name) {
+        const auto d = dir.parent_path() / (dir.filename().string() + name);
+        std::filesystem::remove_all(d);
+        std::filesystem::copy(dir, d);
+        std::filesystem::remove(d / "lock");
+        return d;
+    };
+    const auto forSketch = copy("-sketch"), forWindow = copy("-window");
+
+    app::SketchWindowOptions so;
+    so.projectDir = forSketch.string();
+    so.hidden = true;
+    so.devices = false;
+    so.frames = 2;
+    std::string sketchMessage;
+    so.messageReport = &sketchMessage;
+    std::ostringstream out, err;
+    ASSERT_EQ(app::runSketchWindow(so, out, err), 0) << err.str();
+    EXPECT_NE(sketchMessage.find("recovered 1 edit(s)"), std::string::npos) << sketchMessage;
+    EXPECT_NE(sketchMessage.find("warning: "), std::string::npos) << sketchMessage;
+    EXPECT_NE(sketchMessage.find("record 2 is truncated"), std::string::npos) << sketchMessage;
+
+    app::WindowOptions wo;
+    wo.projectDir = forWindow.string();
+    wo.hidden = true;
+    wo.devices = false;
+    wo.frames = 2;
+    app::WindowOptions::Report report;
+    wo.report = &report;
+    ASSERT_EQ(app::runWindow(wo, out, err), 0) << err.str();
+    EXPECT_NE(report.message.find("recovered 1 edit(s)"), std::string::npos) << report.message;
+    EXPECT_NE(report.message.find("record 2 is truncated"), std::string::npos) << report.message;
+    for (const auto& d : {dir, forSketch, forWindow})
+        std::filesystem::remove_all(d);
 }
 
 }  // namespace

@@ -106,6 +106,10 @@ class Rig {
 
     /// A line for the user about the project: where it is, what was recovered.
     std::string projectSummary() const;
+    /// The windows' panel line after opening: what was recovered from the journal and, when
+    /// records could not be replayed, that some were lost and where the file was kept; empty
+    /// when there was nothing to recover.
+    std::string recoveryMessage() const;
 
     /// Save: a snapshot of the project (nothing to do without one), written on a thread of its
     /// own (Studio::saveInBackground) while the frame goes on; pollSave() says when it is done.

@@ -40,6 +40,7 @@ struct SketchWindowOptions {
     std::vector<std::pair<size_t, render::InputEvent>> injectedEvents;
     bool ui = true;               ///< the on-screen UI (off: measuring what it costs)
     UiState* uiReport = nullptr;  ///< tests: the UI's state and rectangles after the last frame
+    std::string* messageReport = nullptr;  ///< tests: the panel's message line after it
 };
 
 /// Exit code 0; 1 when no window can be opened (the message says why and points to

@@ -2,6 +2,7 @@
 // The sketch window under Xvfb + Mesa: the canvas and the 3D view side by side, driven by a
 // playback script; the screenshot shows the sketch on paper at the left and the solid it made
 // (with a surface line drawn on the model) at the right.
+#include "../../app/src/KeyNames.h"
 #include "vsculpt/app/SketchWindow.h"
 #include "vsculpt/app/Window.h"
 #include "vsculpt/render/Shot.h"
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include <unistd.h>
@@ -136,6 +138,20 @@ TEST(SketchWindow, HeadsetWindowShowsTheSolidInStereo) {
     ASSERT_EQ(desk.width, 1280);
     EXPECT_TRUE(paper(desk.pixel(10, 10)));
     std::filesystem::remove(script);
+}
+
+// Every key name a config may give has a GLFW key code, a code of its own: the windows can
+// bind whatever the config accepted.
+TEST(SketchWindow, EveryKeyNameHasItsOwnGlfwCode) {
+    std::set<int> codes;
+    for (const std::string& name : core::keyNames()) {
+        const int code = app::keyCode(name);
+        EXPECT_GE(code, 0) << name;
+        EXPECT_TRUE(codes.insert(code).second) << name;
+    }
+    EXPECT_EQ(app::keyCode("ESC"), -1);
+    EXPECT_EQ(app::keyCode("F9"), GLFW_KEY_F9);
+    EXPECT_EQ(app::keyCode("KP_ENTER"), GLFW_KEY_KP_ENTER);
 }
 
 // The sketch window's keys come from the config; a key bound twice is refused with the file

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -180,6 +182,30 @@ TEST(Config, AKeyGivenTwiceInOneObjectIsRefused) {
     EXPECT_EQ(
         why(R"({"interaction": {"bindings": {"undo": "U"}, "sketch_bindings": {"undo": "Y"}}})"),
         "accepted");
+}
+
+// Bindings take GLFW's key names; an unknown one is refused when the config is read, by every
+// command (the windows used to find it only for their own table, `play` never), naming the
+// binding and the nearest real name.
+TEST(Config, BindingsTakeGlfwKeyNamesOnly) {
+    for (const char* good :
+         {"F13", "KP_ENTER", "LEFT_SHIFT", "SEMICOLON", "INSERT", "GRAVE_ACCENT"})
+        EXPECT_NO_THROW(parseConfig(
+            std::string(R"({"interaction": {"bindings": {"undo": ")") + good + R"("}}})",
+            "user.json"))
+            << good;
+    EXPECT_EQ(errorOf(R"({"interaction": {"sketch_bindings": {"undo": "PAGEUP"}}})"),
+              "test.json: interaction.sketch_bindings.undo: unknown key name 'PAGEUP' (GLFW's "
+              "names without GLFW_KEY_: A-Z, 0-9, F1-F25, KP_0-KP_9, TAB, SPACE, HOME, ...; did "
+              "you mean 'PAGE_UP'?)");
+    EXPECT_NE(errorOf(R"({"interaction": {"bindings": {"undo": "ESC"}}})")
+                  .find("interaction.bindings.undo: unknown key name 'ESC'"),
+              std::string::npos);
+    EXPECT_NE(errorOf(R"({"interaction": {"bindings": {"undo": "tab"}}})").find("unknown key name"),
+              std::string::npos);
+    const std::vector<std::string>& names = keyNames();
+    EXPECT_EQ(names.size(), 120u);  // every token of glfw3.h but UNKNOWN and LAST
+    EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), names.size());
 }
 
 TEST(Config, ReadsTheHeadsetSection) {

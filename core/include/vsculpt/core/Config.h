@@ -66,6 +66,9 @@ struct PolygonizerConfig {
     double viewRootTolerance = 0.1;
 };
 
+/// The key names bindings take: GLFW's key names without the GLFW_KEY_ prefix ("A", "7",
+/// "F13", "KP_ENTER", "LEFT_SHIFT", "SEMICOLON", ...), every one GLFW defines.
+const std::vector<std::string>& keyNames();
 /// Actions of the window's keyboard, in configs/sculpt.json "interaction.bindings".
 const std::vector<std::string>& bindableActions();
 /// Actions of the sketch window's keyboard, "interaction.sketch_bindings" (docs/sketch-window.md).

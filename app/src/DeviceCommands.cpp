@@ -206,6 +206,11 @@ int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
     }
     std::signal(SIGINT, previousInt);
     std::signal(SIGTERM, previousTerm);
+    if (!anyArrived)
+        spdlog::warn(
+            "no supported device was connected: {} holds no events (`vsculpt devices` lists what "
+            "is there)",
+            o.outPath);
     studio.endStroke();
     const core::Mesh mesh = studio.session().wholeMesh();
     char hash[17];

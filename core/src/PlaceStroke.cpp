@@ -282,32 +282,10 @@ double StrokeBuilder::preStrokeRawSum(const LatticeCoord& v, const Vec3& pos) {
     return raw;
 }
 
-double StrokeBuilder::preStrokeValueAt(const Vec3& pos) {
-    double raw = mProbe->rawSum(pos);
-    if (!mDeltas.empty()) {
-        const ToolLevel& tl = mSculpture.levels().level(mLattice);
-        const HermiteFalloff& F = mSculpture.levels().falloff();
-        const Vec3 q = pos / tl.spacingMm;
-        const double r = tl.supportMm / tl.spacingMm;
-        for (int x = int(std::ceil(q.x - r)); x <= int(std::floor(q.x + r)); ++x)
-            for (int y = int(std::ceil(q.y - r)); y <= int(std::floor(q.y + r)); ++y)
-                for (int z = int(std::ceil(q.z - r)); z <= int(std::floor(q.z + r)); ++z) {
-                    const auto it = mDeltas.find(LatticeCoord{x, y, z});
-                    if (it == mDeltas.end()) continue;
-                    const double dist = glm::length(pos - Vec3(x, y, z) * tl.spacingMm);
-                    if (dist < tl.supportMm)
-                        raw -= double(it->second) * F.value(dist / tl.supportMm);
-                }
-    }
-    return raw - mSculpture.levels().iso();
-}
-
-FieldSample StrokeBuilder::preStrokeSampleAt(const Vec3& pos) {
-    FieldSample s = mProbe->sample(pos);
-    s.value += mSculpture.levels().iso();
-    if (mDeltas.empty()) return s;
+template <class Fn>
+void StrokeBuilder::forEachDeltaNear(const Vec3& pos, Fn&& visit) const {
+    if (mDeltas.empty()) return;
     const ToolLevel& tl = mSculpture.levels().level(mLattice);
-    const HermiteFalloff& F = mSculpture.levels().falloff();
     const Vec3 q = pos / tl.spacingMm;
     const double r = tl.supportMm / tl.spacingMm;
     for (int x = int(std::ceil(q.x - r)); x <= int(std::floor(q.x + r)); ++x)
@@ -317,12 +295,27 @@ FieldSample StrokeBuilder::preStrokeSampleAt(const Vec3& pos) {
                 const double dist = glm::length(d);
                 if (dist >= tl.supportMm) continue;
                 const auto it = mDeltas.find(LatticeCoord{x, y, z});
-                if (it == mDeltas.end()) continue;
-                const double u = dist / tl.supportMm;
-                s.value -= double(it->second) * F.value(u);
-                if (dist > 0)
-                    s.gradient -= double(it->second) * F.derivative(u) / tl.supportMm * (d / dist);
+                if (it != mDeltas.end()) visit(double(it->second), d, dist, dist / tl.supportMm);
             }
+}
+
+double StrokeBuilder::preStrokeValueAt(const Vec3& pos) {
+    double raw = mProbe->rawSum(pos);
+    const HermiteFalloff& F = mSculpture.levels().falloff();
+    forEachDeltaNear(
+        pos, [&](double delta, const Vec3&, double, double u) { raw -= delta * F.value(u); });
+    return raw - mSculpture.levels().iso();
+}
+
+FieldSample StrokeBuilder::preStrokeSampleAt(const Vec3& pos) {
+    FieldSample s = mProbe->sample(pos);
+    s.value += mSculpture.levels().iso();
+    const HermiteFalloff& F = mSculpture.levels().falloff();
+    const double support = mSculpture.levels().level(mLattice).supportMm;
+    forEachDeltaNear(pos, [&](double delta, const Vec3& d, double dist, double u) {
+        s.value -= delta * F.value(u);
+        if (dist > 0) s.gradient -= delta * F.derivative(u) / support * (d / dist);
+    });
     return s;
 }
 

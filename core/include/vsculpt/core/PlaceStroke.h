@@ -116,6 +116,11 @@ class StrokeBuilder {
     double preStrokeRawSum(const LatticeCoord& v, const Vec3& pos);
     /// The same at any point (not only at a vertex of the tool's lattice).
     FieldSample preStrokeSampleAt(const Vec3& pos);
+    /// Calls visit(delta, pos - vertex, distance, distance / support) for every vertex of the
+    /// stroke's lattice whose weight this stroke changed by `delta` and whose support reaches
+    /// `pos`.
+    template <class Fn>
+    void forEachDeltaNear(const Vec3& pos, Fn&& visit) const;
     /// The field (without c) and its gradient before the stroke began.
     FieldSample preStrokeSample(const LatticeCoord& v, const Vec3& pos);
     /// Thesis and free modes: the vertices inside the swept tool decide their weights.

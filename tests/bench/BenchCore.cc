@@ -4,6 +4,8 @@
 #include "vsculpt/core/EvalField.h"
 #include "vsculpt/core/PlaceStroke.h"
 #include "vsculpt/core/Sculpture.h"
+#include "vsculpt/studio/PickTool.h"
+#include "vsculpt/studio/Session.h"
 
 #include <benchmark/benchmark.h>
 
@@ -179,6 +181,26 @@ BENCHMARK(BM_StrokePlacement)
     ->ArgsProduct({{1, 3, 5, 7}, {0, 1}})
     ->ArgNames({"level", "carve"})
     ->Unit(benchmark::kMicrosecond);
+
+// The window's pointer pick, once a frame (studio/PickTool.h): outside a stroke it marches the
+// live field along the ray; during one, the field as it was before the stroke (the stroke's
+// changed weights taken off at each step), so the tool never climbs the clay it adds.
+// in_stroke:1 is after 40 samples of a size-7 add along the sphere's front, under the ray.
+void BM_PickTool(benchmark::State& state) {
+    vsculpt::studio::Session s{SculptConfig{}};
+    const bool inStroke = state.range(0) != 0;
+    const double radius = 0.5 * s.sculpture().levels().level(7).diameterMm;
+    if (inStroke) {
+        s.beginStroke();
+        for (int i = 0; i < 40; ++i)
+            s.strokeSample(Vec3(-20 + i, -40 - radius, 0), false);
+    }
+    const Vec3 origin(0, -300, 0), dir(0, 1, 0), down(0, 0, -1);
+    for (auto _ : state)
+        benchmark::DoNotOptimize(vsculpt::studio::pickTool(s, origin, dir, radius, 0, down));
+    if (inStroke) s.endStroke();
+}
+BENCHMARK(BM_PickTool)->Arg(0)->Arg(1)->ArgName("in_stroke")->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

@@ -271,7 +271,7 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     renderCmd
         ->add_option("--spacing", still.spacingMm,
                      "Mesh grid spacing in mm (default: zoom 3's, for fine detail)")
-        ->check(numberIn(0, 1000, "mm", /*loOpen=*/true));
+        ->check(numberIn(0, RenderOptions::kMaxSpacingMm, "mm", /*loOpen=*/true));
     renderCmd
         ->add_option("--yaw", still.yawDeg,
                      "Camera: turn the sculpture about the vertical (z) axis, degrees")

@@ -522,6 +522,12 @@ std::string DeviceInput::recenterHead(int64_t timeNs, const glm::dvec3& worldTar
                        std::remainder(degrees, 360.0));
 }
 
+std::string DeviceInput::recenterHeadOn(const core::Aabb& box, const glm::dmat4& worldFromObject) {
+    const core::Vec3 centre = box.empty() ? core::Vec3(0.0) : 0.5 * (box.min + box.max);
+    return recenterHead(devices::monotonicNowNs(),
+                        core::Vec3(worldFromObject * glm::dvec4(centre, 1)));
+}
+
 std::string DeviceInput::summary() const {
     std::ostringstream s;
     for (const auto& [name, c] : mCounters) {

@@ -56,6 +56,36 @@ double wholeMeshFinestSpacing(const Session& session) {
     return std::ceil(fit / unit) * unit;
 }
 
+double wholeMeshSpacing(const Session& session, double spacing, const std::string& option,
+                        double maxMm, std::string& warning) {
+    const double fit = wholeMeshFinestSpacing(session);
+    if (!(fit > spacing)) return spacing;
+    const double across = fit * (Session::kWholeMeshMaxCells - 24);
+    char text[400];
+    if (option.empty()) {
+        std::snprintf(text, sizeof text,
+                      "the sculpture is %.4g mm across, more than the whole-sculpture grid's %d "
+                      "cells per axis hold at %.3g mm: meshing at %.3g mm",
+                      across, Session::kWholeMeshMaxCells, spacing, fit);
+        warning = text;
+        return fit;
+    }
+    if (fit > maxMm)
+        std::snprintf(text, sizeof text,
+                      "%s %.3g: the sculpture is %.4g mm across, too large to mesh whole at any "
+                      "spacing vsculpt offers (the grid holds %d cells per axis, %s at most %.0f "
+                      "mm); undo what was placed that far out",
+                      option.c_str(), spacing, across, Session::kWholeMeshMaxCells, option.c_str(),
+                      maxMm);
+    else
+        std::snprintf(text, sizeof text,
+                      "%s %.3g: the sculpture is %.4g mm across, more than the whole-sculpture "
+                      "grid's %d cells per axis hold at that spacing: give %s %.3g or more",
+                      option.c_str(), spacing, across, Session::kWholeMeshMaxCells, option.c_str(),
+                      fit);
+    throw studio::SessionError(text);
+}
+
 std::string exportDetailWarning(const Session& session, double spacing) {
     const ExportDetail d = exportDetail(session, spacing);
     if (d.zoom == 0 || spacing <= d.detailMm * (1 + 1e-9)) return {};

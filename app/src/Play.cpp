@@ -371,35 +371,19 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
                     "the sculpture's finest detail (size {}, {:.3g} mm) needs a finer "
                     "grid than its {} cells per axis allow: meshing at {:.3g} mm",
                     d.finestSize, d.detailMm, Session::kWholeMeshMaxCells, spacing);
-        } else if (o.exportSpacingMm <= 0) {
+        } else {
             // The default spacing is zoom 1's; a sculpture too large for the grid at it is
-            // meshed as finely as the grid allows, and the user is told.
-            if (const double fit = wholeMeshFinestSpacing(*session); fit > spacing) {
-                spdlog::warn(
-                    "the sculpture is {:.4g} mm across, more than the whole-sculpture grid's {} "
-                    "cells per axis hold at zoom 1's {:.3g} mm: meshing at {:.3g} mm",
-                    fit * (Session::kWholeMeshMaxCells - 24), Session::kWholeMeshMaxCells, spacing,
-                    fit);
-                spacing = fit;
-            } else if (!o.outputs.empty()) {
+            // meshed as finely as the grid allows, said; a given one too fine is refused,
+            // before meshing, with the value that works.
+            std::string coarser;
+            spacing =
+                wholeMeshSpacing(*session, spacing, o.exportSpacingMm > 0 ? "--export-spacing" : "",
+                                 PlayOptions::kMaxExportSpacingMm, coarser);
+            if (!coarser.empty())
+                spdlog::warn("{}", coarser);
+            else if (o.exportSpacingMm <= 0 && !o.outputs.empty())
                 if (const std::string w = exportDetailWarning(*session, spacing); !w.empty())
                     spdlog::warn("{}", w);
-            }
-        } else if (const double fit = wholeMeshFinestSpacing(*session); fit > spacing) {
-            // Named before meshing, with the value that works.
-            if (fit > PlayOptions::kMaxExportSpacingMm)
-                throw SessionError(fmt::format(
-                    "--export-spacing {:.3g}: the sculpture is {:.4g} mm across, too large to "
-                    "mesh whole at any spacing vsculpt offers (the grid holds {} cells per axis, "
-                    "--export-spacing at most {:.0f} mm); undo what was placed that far out",
-                    spacing, fit * (Session::kWholeMeshMaxCells - 24), Session::kWholeMeshMaxCells,
-                    PlayOptions::kMaxExportSpacingMm));
-            throw SessionError(fmt::format(
-                "--export-spacing {:.3g}: the sculpture is {:.4g} mm across, more than the "
-                "whole-sculpture grid's {} cells per axis hold at that spacing: give "
-                "--export-spacing {:.3g} or more",
-                spacing, fit * (Session::kWholeMeshMaxCells - 24), Session::kWholeMeshMaxCells,
-                fit));
         }
         const auto meshStart = std::chrono::steady_clock::now();
         const Mesh mesh = session->wholeMesh(spacing);

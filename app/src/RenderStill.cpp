@@ -127,22 +127,10 @@ int runRenderStill(const RenderOptions& o, std::ostream& out, std::ostream& err)
                                                              session->sculpture().levels(), 3);
         // A sculpture too large for the whole-sculpture grid at that spacing: by default the
         // finest the grid allows, said; a given --spacing is refused with the value that works.
-        if (const double fit = wholeMeshFinestSpacing(*session); fit > spacing) {
-            const double across = fit * (Session::kWholeMeshMaxCells - 24);
-            if (o.spacingMm > 0) {
-                spdlog::error(
-                    "--spacing {:.3g}: the sculpture is {:.4g} mm across, more than the "
-                    "whole-sculpture grid's {} cells per axis hold at that spacing: give "
-                    "--spacing {:.3g} or more",
-                    spacing, across, Session::kWholeMeshMaxCells, fit);
-                return 2;
-            }
-            spdlog::warn(
-                "the sculpture is {:.4g} mm across, more than the whole-sculpture grid's {} "
-                "cells per axis hold at {:.3g} mm: meshing at {:.3g} mm",
-                across, Session::kWholeMeshMaxCells, spacing, fit);
-            spacing = fit;
-        }
+        std::string coarser;
+        spacing = wholeMeshSpacing(*session, spacing, o.spacingMm > 0 ? "--spacing" : "",
+                                   RenderOptions::kMaxSpacingMm, coarser);
+        if (!coarser.empty()) spdlog::warn("{}", coarser);
         const auto meshStart = std::chrono::steady_clock::now();
         const core::Mesh mesh = session->wholeMesh(spacing);
         spdlog::debug("meshed at {:.3g} mm: {} triangles in {}", spacing, mesh.triangleCount(),

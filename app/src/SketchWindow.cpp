@@ -247,11 +247,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
                 // The head-tracked view looks toward what the 3D view frames.
                 act([&] {
                     if (!devices) throw std::runtime_error("recenter: the devices are not open");
-                    const core::Vec3 centre =
-                        frameBox.empty() ? core::Vec3(0.0) : 0.5 * (frameBox.min + frameBox.max);
-                    message = devices->recenterHead(
-                        devices::monotonicNowNs(),
-                        core::Vec3(session->objectPose().matrix() * glm::dvec4(centre, 1)));
+                    message = devices->recenterHeadOn(frameBox, session->objectPose().matrix());
                     spdlog::info("{}", message);
                 });
             } else if (action == "undo") {

@@ -190,10 +190,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
                     // The head-tracked view looks toward what the camera frames.
                     if (!rig->devices())
                         throw std::runtime_error("recenter: the devices are not open");
-                    const Vec3 centre =
-                        frameBox.empty() ? Vec3(0.0) : 0.5 * (frameBox.min + frameBox.max);
-                    message = rig->devices()->recenterHead(
-                        devices::monotonicNowNs(), Vec3(worldFromObject * glm::dvec4(centre, 1)));
+                    message = rig->devices()->recenterHeadOn(frameBox, worldFromObject);
                     spdlog::info("{}", message);
                 } else if (Rig::handles(a)) {
                     message = rig->projectAction(a);

@@ -9,12 +9,23 @@ namespace vsculpt::studio {
 
 using namespace vsculpt::core;
 
-std::optional<double> marchToSurface(FieldProbe& probe, const Vec3& origin, const Vec3& dir,
-                                     double stepMm, double farMm) {
+namespace {
+
+// The first t in [0, farMm), stepping stepMm, where value(origin + t dir) > 0 (inside).
+template <class Value>
+std::optional<double> march(Value&& value, const Vec3& origin, const Vec3& dir, double stepMm,
+                            double farMm) {
     if (!(stepMm > 0)) return std::nullopt;
     for (double t = 0; t < farMm; t += stepMm)
-        if (probe.value(origin + t * dir) > 0) return t;
+        if (value(origin + t * dir) > 0) return t;
     return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<double> marchToSurface(FieldProbe& probe, const Vec3& origin, const Vec3& dir,
+                                     double stepMm, double farMm) {
+    return march([&](const Vec3& p) { return probe.value(p); }, origin, dir, stepMm, farMm);
 }
 
 ToolContact toolContact(FieldProbe& probe, const Vec3& centre, double radiusMm) {
@@ -54,13 +65,10 @@ ToolPick pickTool(const Session& s, const Vec3& origin, const Vec3& dir, double 
     // While a stroke goes on, the tool rests on the clay as it was before the stroke: on the
     // live clay an add held still climbed its own clay toward the eye (a pillar hundreds of
     // mm long in a second), and a carve sank into the hollow it made.
-    std::optional<double> hit;
-    if (s.inStroke()) {
-        for (double u = 0; u < far && !hit; u += step)
-            if (s.preStrokeValueAt(origin + u * dir) > 0) hit = u;
-    } else {
-        hit = marchToSurface(probe, origin, dir, step, far);
-    }
+    const std::optional<double> hit =
+        s.inStroke()
+            ? march([&](const Vec3& p) { return s.preStrokeValueAt(p); }, origin, dir, step, far)
+            : marchToSurface(probe, origin, dir, step, far);
     if (hit) {
         t = *hit;
         pick.surfaceHit = origin + t * dir;

@@ -90,6 +90,10 @@ class DeviceInput {
     /// saying why, when there is no head pose yet or the head looks (or the target lies)
     /// straight up or down.
     std::string recenterHead(int64_t timeNs, const glm::dvec3& worldTargetMm);
+    /// The windows' recenter action: recenterHead now, toward the centre of the box the view
+    /// frames (object space; the object origin when empty).
+    std::string recenterHeadOn(const core::Aabb& framedObjectBox,
+                               const glm::dmat4& worldFromObject);
 
     const std::map<std::string, DeviceCounters>& counters() const { return mCounters; }
     /// One line per device: "name: N reports, M samples, ..." for logs and `play` output.

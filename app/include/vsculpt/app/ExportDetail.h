@@ -31,6 +31,14 @@ ExportDetail exportDetail(const studio::Session& session, double zoom1Mm);
 /// 0 for an empty sculpture.
 double wholeMeshFinestSpacing(const studio::Session& session);
 
+/// The spacing a whole-sculpture mesh takes when `spacingMm` is asked for: that spacing when
+/// the grid holds the sculpture at it. Otherwise a spacing the user gave with `option` is
+/// refused (studio::SessionError naming the option and the value that works, or that none up
+/// to `maxMm` does), and a default one (`option` empty) becomes the finest the grid allows, a
+/// sentence saying so left in `warning`.
+double wholeMeshSpacing(const studio::Session& session, double spacingMm, const std::string& option,
+                        double maxMm, std::string& warning);
+
 /// When an export at `spacingMm` cannot hold the session's finest detail: a sentence saying so
 /// and which --export-spacing would keep it; empty otherwise. The suggestion is
 /// exportDetail's keepingMm rounded to three digits (down to keep the detail, up to fit the

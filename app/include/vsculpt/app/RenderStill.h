@@ -16,10 +16,11 @@ struct RenderOptions {
     std::string input;    ///< a playback script, or a project folder
     std::string outPath;  ///< PNG
     std::string size = "1280x960";
-    int samples = 32;                 ///< ambient-occlusion rays per pixel (shadow rays: half)
-    double spacingMm = 0;             ///< mesh grid spacing; 0 = the zoom-3 spacing (fine detail)
-    std::string configPath;           ///< for scripts
-    double yawDeg = 0, pitchDeg = 0;  ///< camera: turn the sculpture before framing it
+    int samples = 32;      ///< ambient-occlusion rays per pixel (shadow rays: half)
+    double spacingMm = 0;  ///< mesh grid spacing; 0 = the zoom-3 spacing (fine detail)
+    static constexpr double kMaxSpacingMm = 1000;  ///< --spacing's upper bound
+    std::string configPath;                        ///< for scripts
+    double yawDeg = 0, pitchDeg = 0;               ///< camera: turn the sculpture before framing it
     /// 0: one still. N > 0: N frames, frame i turned by yawDeg + 360 i / N degrees about the
     /// vertical axis through the sculpture's centre, all with one framing; written to
     /// turntablePath(outPath, i, N).

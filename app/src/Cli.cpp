@@ -11,11 +11,8 @@
 #include "vsculpt/core/Config.h"
 #include "vsculpt/core/NearestName.h"
 #include "vsculpt/core/Sculpture.h"
-#include "vsculpt/core/WriteFileAtomically.h"
 
 #include <CLI/CLI.hpp>
-
-#include <signal.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -85,28 +82,6 @@ CLI::Validator orWord(const std::string& word, CLI::Validator other) {
 }
 
 }  // namespace
-
-namespace {
-
-extern "C" void removeTemporariesAndDie(int sig) {
-    core::removeTemporaryFilesInProgress();
-    // SA_RESETHAND made the action the default again: delivered once this handler returns.
-    ::raise(sig);
-}
-
-}  // namespace
-
-void removeTemporaryFilesOnInterrupt() {
-    for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
-        struct sigaction old {};
-        if (::sigaction(sig, nullptr, &old) != 0 || old.sa_handler != SIG_DFL) continue;
-        struct sigaction sa {};
-        sa.sa_handler = removeTemporariesAndDie;
-        sigemptyset(&sa.sa_mask);
-        sa.sa_flags = SA_RESETHAND;
-        ::sigaction(sig, &sa, nullptr);
-    }
-}
 
 int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
     CLI::App cli{

@@ -2,6 +2,7 @@
 #include "vsculpt/app/DeviceCommands.h"
 
 #include "vsculpt/app/DeviceInput.h"
+#include "vsculpt/app/Interrupt.h"
 #include "vsculpt/app/LiveDevices.h"
 #include "vsculpt/core/Config.h"
 #include "vsculpt/core/Mesh.h"
@@ -13,11 +14,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <ostream>
 #include <set>
 #include <thread>
@@ -37,11 +37,6 @@ std::string usbId(uint16_t vendor, uint16_t product) {
 const devices::DeviceRule* match(const std::vector<devices::DeviceRule>& rules, uint16_t vendor,
                                  uint16_t product, devices::DeviceAccess access) {
     return devices::findRule(rules, vendor, product, access);
-}
-
-std::atomic<bool> gStop{false};
-extern "C" void onSignal(int) {
-    gStop = true;
 }
 
 }  // namespace
@@ -162,16 +157,16 @@ int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
     LiveDevices live(cfg.devices);
     DeviceInput input(cfg.devices, live.rules(), interaction, studio);
 
-    gStop = false;
-    auto previousInt = std::signal(SIGINT, onSignal);
-    auto previousTerm = std::signal(SIGTERM, onSignal);
+    // Ctrl-C (or SIGTERM, SIGHUP) is how a recording ends: the loop stops and the
+    // recording is finished normally; a second one ends the process at once.
+    std::optional<InterruptScope> interrupts(std::in_place);
     const auto start = std::chrono::steady_clock::now();
     bool warnedNone = false;
     std::set<std::string> present;
     bool anyArrived = false;
     int code = 0;
     spdlog::info("recording to {} (Ctrl-C to stop)", o.outPath);
-    while (!gStop) {
+    while (interruptSignal() == 0) {
         try {
             live.pump([&](const devices::DeviceEvent& e) {
                 writer->write(e);
@@ -204,8 +199,8 @@ int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
         if (o.untilUnplugged && anyArrived && present.empty()) break;
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
-    std::signal(SIGINT, previousInt);
-    std::signal(SIGTERM, previousTerm);
+    takeInterruptSignal();
+    interrupts.reset();
     if (!anyArrived)
         spdlog::warn(
             "no supported device was connected: {} holds no events (`vsculpt devices` lists what "

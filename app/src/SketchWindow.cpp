@@ -3,6 +3,7 @@
 
 #include "KeyNames.h"
 #include "vsculpt/app/CliChecks.h"
+#include "vsculpt/app/Interrupt.h"
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/app/SketchInkList.h"
 #include "vsculpt/core/WriteFileAtomically.h"
@@ -19,6 +20,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <functional>
 #include <map>
 #include <memory>
@@ -150,7 +152,15 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
         return uiLayer && (uiLayer->wantsMouse() || uiState.covers(uiPointer.x, uiPointer.y));
     };
 
+    InterruptScope interrupts;
+    int code = 0;
     while (running) {
+        // Ctrl-C, SIGTERM (a logout, a session manager) or SIGHUP: closed as the close box
+        // would, so the work is snapshotted and the next open has nothing to recover.
+        if (const int sig = interruptSignal()) {
+            spdlog::info("closing: {}", ::strsignal(sig));
+            break;
+        }
         const auto t0 = std::chrono::steady_clock::now();
         // Save as and new project replace the studio: fetched anew every frame.
         Studio& studio = rig->studio();
@@ -223,7 +233,11 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
             });
         };
 
-        if (!playNextScriptCommand(studio, script, commandIndex)) return 2;
+        // A script line refused stops the script; the work before it is closed as usual.
+        if (!playNextScriptCommand(studio, script, commandIndex)) {
+            code = 2;
+            break;
+        }
         for (const auto& [at, ev] : o.injectedEvents)
             if (at == frame) viewer->injectEvent(ev);
         // One action, from a key binding or the panel (the same names): applied the same way.
@@ -526,12 +540,16 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
             canvas.draw(ink, canvasView(page().view(), canvasPx), {0, 0}, overlay);
         } catch (const std::exception& e) {
             spdlog::error("{}", e.what());
-            return 1;
+            code = 1;
+            break;
         }
         if (uiLayer) viewer->overlayUi(uiImage);
         ++frame;
         const bool last = o.frames > 0 && frame >= size_t(o.frames);
-        if (last && !keepLastFrame(*viewer, o.shotPath, o.lastFrame)) return 1;
+        if (last && !keepLastFrame(*viewer, o.shotPath, o.lastFrame)) {
+            code = 1;
+            break;
+        }
         viewer->swap();
         if (headset) {
             headset->makeCurrent();
@@ -574,7 +592,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
     spdlog::info("{} frame(s), {} page(s), {} step(s), {} skeletons", frame,
                  rig->studio().document().pageCount(), rig->studio().stepCount(),
                  rig->session().sculpture().counts().total());
-    return 0;
+    return code;
 }
 
 }  // namespace vsculpt::app

@@ -3,6 +3,7 @@
 
 #include "KeyNames.h"
 #include "vsculpt/app/CliChecks.h"
+#include "vsculpt/app/Interrupt.h"
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/app/SculptAction.h"
 #include "vsculpt/app/XrWindow.h"
@@ -22,6 +23,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <optional>
@@ -160,13 +162,25 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
     auto overUi = [&] {
         return uiLayer && (uiLayer->wantsMouse() || uiState.covers(uiPointer.x, uiPointer.y));
     };
+    InterruptScope interrupts;
+    int code = 0;
     while (running) {
+        // Ctrl-C, SIGTERM (a logout, a session manager) or SIGHUP: closed as the close box
+        // would, so the work is snapshotted and the next open has nothing to recover.
+        if (const int sig = interruptSignal()) {
+            spdlog::info("closing: {}", ::strsignal(sig));
+            break;
+        }
         Studio& studio = studioNow();
         const Session& session = sessionNow();
         Interaction& ui = rig->interaction();
         const auto t0 = std::chrono::steady_clock::now();
         // Scripted commands first (one per frame), then live input.
-        if (!playNextScriptCommand(studio, script, commandIndex)) return 2;
+        // A script line refused stops the script; the work before it is closed as usual.
+        if (!playNextScriptCommand(studio, script, commandIndex)) {
+            code = 2;
+            break;
+        }
         const ToolLevel& level = session.sculpture().levels().level(session.size());
         bool switched = false;
         // One action, from a key binding or the UI (the same names): applied the same way.
@@ -360,7 +374,10 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
                                                    lens, uiLayer ? &uiImage : nullptr);
         ++frame;
         const bool last = o.frames > 0 && frame >= size_t(o.frames);
-        if (last && !keepLastFrame(*viewer, o.shotPath, o.lastFrame)) return 1;
+        if (last && !keepLastFrame(*viewer, o.shotPath, o.lastFrame)) {
+            code = 1;
+            break;
+        }
         viewer->swap();
         frameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                       .count();
@@ -412,7 +429,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         spdlog::info("the mesh followed {} edit(s) by p50 {}, p99 {} (mesher thread)",
                      meshLag.count(), formatDuration(meshLag.quantile(0.5) / 1000),
                      formatDuration(meshLag.quantile(0.99) / 1000));
-    return 0;
+    return code;
 }
 
 }  // namespace vsculpt::app

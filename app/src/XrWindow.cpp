@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/app/XrWindow.h"
 
+#include "vsculpt/app/Interrupt.h"
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/app/XrInput.h"
 #include "vsculpt/app/XrPanelUi.h"
@@ -21,6 +22,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <thread>
 
@@ -167,8 +169,15 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
     bool vibrating = false;
     std::string why;
     int code = 0;
+    InterruptScope interrupts;
     try {
         while (xr->pollEvents(why)) {
+            // Ctrl-C, SIGTERM or SIGHUP: the session ends as the runtime's exit would, so the
+            // work is snapshotted and the next open has nothing to recover.
+            if (const int sig = interruptSignal(); sig != 0 && xr->running()) {
+                spdlog::info("closing: {}", ::strsignal(sig));
+                xr->requestExit();
+            }
             for (const render::InputEvent& ev : viewer->pollEvents()) {
                 using K = render::InputEvent::Kind;
                 if (ev.kind == K::Close ||

@@ -3,6 +3,7 @@
 // output on stdout, rounded times, progress bars, numbers people can read, turntables.
 #include "../TestFiles.h"
 #include "vsculpt/app/Cli.h"
+#include "vsculpt/app/Interrupt.h"
 #include "vsculpt/app/Log.h"
 #include "vsculpt/app/ProgressBar.h"
 #include "vsculpt/app/RenderStill.h"
@@ -385,7 +386,7 @@ TEST(CliOutput, AnInterruptedWriteLeavesNoTemporaryFile) {
     const pid_t child = ::fork();
     ASSERT_GE(child, 0);
     if (child == 0) {
-        vsculpt::app::removeTemporaryFilesOnInterrupt();
+        vsculpt::app::handleInterrupts();
         vsculpt::core::detail::setAfterTemporaryCreated([](const char*) { ::raise(SIGTERM); });
         try {
             vsculpt::core::writeFileAtomically(dir / "out.stl", std::string(1 << 20, 'x'), false);
@@ -403,6 +404,55 @@ TEST(CliOutput, AnInterruptedWriteLeavesNoTemporaryFile) {
     EXPECT_EQ(left, std::vector<std::string>{"out.stl"});
     EXPECT_EQ(readFile(dir / "out.stl"), "old");
     fs::remove_all(dir);
+}
+
+// In a window the first signal only asks it to close (it saves, then the process still ends
+// as the signal says, so a shell sees 143); a second one ends the process at once.
+TEST(CliOutput, AWindowsFirstSignalAsksItToCloseAndTheProcessThenEndsAsTheSignalSays) {
+    auto runChild = [](auto body) {
+        const pid_t child = ::fork();
+        if (child == 0) {
+            body();
+            ::_exit(3);
+        }
+        int status = 0;
+        EXPECT_EQ(::waitpid(child, &status, 0), child);
+        return status;
+    };
+    // What main() does around a window that a SIGTERM closed: the close runs (exit 4 if the
+    // signal had ended the process then), and the process ends by SIGTERM after it.
+    int status = runChild([] {
+        vsculpt::app::handleInterrupts();
+        {
+            vsculpt::app::InterruptScope windowOpen;
+            ::raise(SIGTERM);
+            if (vsculpt::app::interruptSignal() != SIGTERM) ::_exit(4);
+        }
+        vsculpt::app::endIfInterrupted();
+    });
+    ASSERT_TRUE(WIFSIGNALED(status)) << status;
+    EXPECT_EQ(WTERMSIG(status), SIGTERM);
+    // A second Ctrl-C while the window closes does not wait for it.
+    status = runChild([] {
+        vsculpt::app::InterruptScope windowOpen;
+        ::raise(SIGINT);
+        ::raise(SIGINT);
+        ::_exit(4);
+    });
+    ASSERT_TRUE(WIFSIGNALED(status)) << status;
+    EXPECT_EQ(WTERMSIG(status), SIGINT);
+    // A recording stopped by Ctrl-C takes the signal and ends normally.
+    status = runChild([] {
+        {
+            vsculpt::app::InterruptScope recording;
+            ::raise(SIGINT);
+            if (vsculpt::app::takeInterruptSignal() != SIGINT) ::_exit(4);
+        }
+        vsculpt::app::endIfInterrupted();
+        ::_exit(0);
+    });
+    ASSERT_TRUE(WIFEXITED(status)) << status;
+    EXPECT_EQ(WEXITSTATUS(status), 0);
 }
 
 }  // namespace

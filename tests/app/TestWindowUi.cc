@@ -3,9 +3,12 @@
 // their colours and text, the help overlay comes with its key, side by side the UI is in both
 // eyes at its disparity, clicks on the UI change the session without sculpting, and typing in
 // the export dialog runs no key bindings; the headset's panel clicks where the pen points.
+#include "vsculpt/app/Interrupt.h"
 #include "vsculpt/app/SketchWindow.h"
 #include "vsculpt/app/Window.h"
 #include "vsculpt/app/XrPanelUi.h"
+#include "vsculpt/core/Config.h"
+#include "vsculpt/core/Project.h"
 #include "vsculpt/core/WriteFileAtomically.h"
 #include "vsculpt/render/Shot.h"
 #include "vsculpt/render/Viewer.h"
@@ -20,6 +23,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -271,6 +275,84 @@ TEST(WindowUi, HoldingTheButtonStillMakesOneDab) {
     const size_t brief = hold(2), held = hold(30);
     EXPECT_GT(brief, 0u);
     EXPECT_EQ(held, brief);
+}
+
+// What the close box does, Ctrl-C and SIGTERM (a logout) do too: the stroke in flight is
+// ended and journaled, the project snapshotted, so the next open recovers nothing. The same
+// for a `--play` line refused mid-script: the work before it is closed as usual.
+struct ClosedProject {
+    size_t journalRecords = 0, recovered = 0, steps = 0, skeletons = 0;
+};
+
+ClosedProject reopen(const fs::path& dir) {
+    ClosedProject c;
+    c.journalRecords = core::readJournal(core::journalPath(dir)).records.size();
+    auto studio = studio::Studio::openProject(dir, core::SculptConfig{});
+    c.recovered = studio->session().recoveredEdits();
+    c.steps = studio->stepCount();
+    c.skeletons = studio->session().sculpture().counts().lattice;
+    return c;
+}
+
+TEST(WindowUi, SigtermClosesTheWindowAsItsCloseBoxWouldAndSavesTheWork) {
+    const fs::path dir =
+        fs::temp_directory_path() / ("vsculpt-sigterm-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    app::WindowOptions o = scratchWindow(0);  // no frame limit: only the signal ends it
+    o.noProject = false;
+    o.projectDir = dir.string();
+    app::WindowOptions::Report report;
+    o.report = &report;
+    size_t lastFrame = 0;
+    o.onFrame = [&](size_t frame, const app::UiState&, std::vector<InputEvent>& inject) {
+        lastFrame = frame;
+        if (frame == 2) inject.push_back(cursor(480, 320));
+        if (frame == 3) inject.push_back(leftButton(true));  // held: a stroke in flight
+        if (frame == 6) ::raise(SIGTERM);
+        // A window that ignored the signal would run forever: end it, and fail below.
+        if (frame == 100) inject.push_back({InputEvent::Kind::Close});
+    };
+    std::ostringstream out, err;
+    EXPECT_EQ(app::runWindow(o, out, err), 0) << err.str();
+    EXPECT_EQ(app::takeInterruptSignal(), SIGTERM);
+    EXPECT_LE(lastFrame, 7u) << "the window went on after SIGTERM";
+    EXPECT_NE(err.str().find("closing: "), std::string::npos) << err.str();
+    EXPECT_EQ(report.steps, 1u);
+    EXPECT_GT(report.skeletons, 0u);
+    const ClosedProject c = reopen(dir);
+    EXPECT_EQ(c.journalRecords, 0u) << "no closing snapshot absorbed the journal";
+    EXPECT_EQ(c.recovered, 0u);
+    EXPECT_EQ(c.steps, 1u);
+    EXPECT_EQ(c.skeletons, report.skeletons);
+    fs::remove_all(dir);
+}
+
+TEST(WindowUi, AScriptLineRefusedClosesTheWindowWithItsWorkSaved) {
+    const fs::path dir =
+        fs::temp_directory_path() / ("vsculpt-playfail-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir.parent_path());
+    const fs::path script =
+        fs::temp_directory_path() / ("vsculpt-playfail-" + std::to_string(::getpid()) + ".vsc");
+    // Size 1 is not offered at zoom 1: refused when it runs, after the stroke was made.
+    std::ofstream(script) << "stroke 0 0 40  10 0 40\nsize 1\nstroke 0 0 -40  10 0 -40\n";
+    app::WindowOptions o = scratchWindow(50);
+    o.noProject = false;
+    o.projectDir = dir.string();
+    o.playScript = script.string();
+    app::WindowOptions::Report report;
+    o.report = &report;
+    std::ostringstream out, err;
+    EXPECT_EQ(app::runWindow(o, out, err), 2) << err.str();
+    EXPECT_NE(err.str().find(":2: "), std::string::npos) << err.str();
+    EXPECT_EQ(report.steps, 1u);
+    const ClosedProject c = reopen(dir);
+    EXPECT_EQ(c.journalRecords, 0u) << "no closing snapshot absorbed the journal";
+    EXPECT_EQ(c.recovered, 0u);
+    EXPECT_EQ(c.steps, 1u);
+    EXPECT_EQ(c.skeletons, report.skeletons);
+    fs::remove_all(dir);
+    fs::remove(script);
 }
 
 TEST(WindowUi, TypingInTheExportDialogRunsNoBindingsAndErrorsStayInTheDialog) {

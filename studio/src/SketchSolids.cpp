@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include <stdexcept>
+#include <string>
 
 namespace vsculpt::studio {
 
@@ -17,11 +18,47 @@ sketch::SolidConstruction constructionFromName(const std::string& name) {
                                 "' (use inflate, three-section, sweep, cut or extrude)");
 }
 
+namespace {
+
+const char* roleWord(studio::Role r) {
+    using R = studio::Role;
+    switch (r) {
+        case R::Outline:
+            return "outline";
+        case R::SurfaceLineX:
+            return "surface-x";
+        case R::SurfaceLineY:
+            return "surface-y";
+        case R::SurfaceLineZ:
+            return "surface-z";
+        case R::SweepSection:
+            return "sweep-section";
+        case R::SweepPath:
+            return "sweep-path";
+        case R::Cut:
+            return "cut";
+        case R::Extrude:
+            return "extrude";
+        case R::None:
+            break;
+    }
+    return "none";
+}
+
+const char* viewWord(sketch::SketchPlane p) {
+    return p == sketch::SketchPlane::Front  ? "front"
+           : p == sketch::SketchPlane::Side ? "side"
+                                            : "top";
+}
+
+}  // namespace
+
 sketch::SketchSolidInput sketchSolidInput(sketch::SolidConstruction construction,
                                           const studio::SketchDocument& document,
                                           size_t currentPage,
                                           const std::vector<sketch::SketchPlane>& planes,
-                                          const std::optional<sketch::PolyMesh>& previous) {
+                                          const std::optional<sketch::PolyMesh>& previous,
+                                          std::vector<PolylineRef>* used) {
     using R = studio::Role;
     struct Found {
         sketch::SketchCurve curve;
@@ -33,28 +70,57 @@ sketch::SketchSolidInput sketchSolidInput(sketch::SolidConstruction construction
     auto planeOf = [&](size_t page) {
         return page < planes.size() ? planes[page] : sketch::SketchPlane::Front;
     };
-    // The first polyline with `role` (and, when given, closedness).
-    auto find = [&](R role, std::optional<bool> closed = std::nullopt) -> std::optional<Found> {
-        for (size_t page : order)
-            for (const studio::RolePolyline& r : document.page(page).rolePolylines())
-                if (r.role == role) {
-                    // A raw stroke counts as closed when it ends where it began, as loosely
-                    // as designers close loops (StrokeClosedness.h).
-                    Found f{{r.points, r.closed}, planeOf(page)};
-                    if (!r.fromCurve && !r.closed && r.points.size() >= 6 &&
-                        sketch::isClosedStroke(r.points)) {
-                        f.curve.closed = true;
-                        // Overshoot past the start would fold the outline: end at the point
-                        // nearest the start within the last quarter.
-                        sketch::Polyline2& p = f.curve.points;
-                        size_t best = p.size() - 1;
-                        for (size_t i = p.size() * 3 / 4; i < p.size(); ++i)
-                            if (glm::distance(p[i], p[0]) < glm::distance(p[best], p[0])) best = i;
-                        p.resize(best + 1);
-                        if (p.size() > 3 && glm::distance(p.back(), p.front()) < 1e-9) p.pop_back();
-                    }
-                    if (!closed || f.curve.closed == *closed) return f;
+    const std::string what = sketch::constructionName(construction);
+    // The polyline with `role` (and, when given, closedness) on the first page that has one;
+    // on a view other than `view`, when one is required, refused.
+    auto find = [&](R role, std::optional<bool> closed = std::nullopt,
+                    std::optional<sketch::SketchPlane> view =
+                        std::nullopt) -> std::optional<Found> {
+        for (size_t page : order) {
+            std::optional<Found> found;
+            std::vector<std::string> names;
+            for (const studio::RolePolyline& r : document.page(page).rolePolylines()) {
+                if (r.role != role) continue;
+                // A raw stroke counts as closed when it ends where it began, as loosely
+                // as designers close loops (StrokeClosedness.h).
+                Found f{{r.points, r.closed}, planeOf(page)};
+                if (!r.fromCurve && !r.closed && r.points.size() >= 6 &&
+                    sketch::isClosedStroke(r.points)) {
+                    f.curve.closed = true;
+                    // Overshoot past the start would fold the outline: end at the point
+                    // nearest the start within the last quarter.
+                    sketch::Polyline2& p = f.curve.points;
+                    size_t best = p.size() - 1;
+                    for (size_t i = p.size() * 3 / 4; i < p.size(); ++i)
+                        if (glm::distance(p[i], p[0]) < glm::distance(p[best], p[0])) best = i;
+                    p.resize(best + 1);
+                    if (p.size() > 3 && glm::distance(p.back(), p.front()) < 1e-9) p.pop_back();
                 }
+                if (closed && f.curve.closed != *closed) continue;
+                names.push_back((r.fromCurve ? "curve " : "stroke ") + std::to_string(r.id));
+                if (!found) {
+                    found = f;
+                    if (used) used->push_back({page, r.fromCurve, r.id});
+                }
+            }
+            if (!found) continue;
+            const std::string pageName = "page '" + document.page(page).name() + "'";
+            if (names.size() > 1) {
+                std::string list;
+                for (const std::string& n : names)
+                    list += (list.empty() ? "" : ", ") + n;
+                throw std::invalid_argument(
+                    what + ": " + pageName + " has " + std::to_string(names.size()) + " " +
+                    roleWord(role) + (closed ? (*closed ? " (closed)" : " (open)") : "") +
+                    " lines (" + list + "); give the ones not meant role none");
+            }
+            if (view && found->plane != *view)
+                throw std::invalid_argument(
+                    what + ": the " + roleWord(role) + " line must be drawn on a " +
+                    viewWord(*view) + " view; " + pageName + " is a " + viewWord(found->plane) +
+                    " view (a page named side... or top... is one)");
+            return found;
+        }
         return std::nullopt;
     };
     auto curve = [](const std::optional<Found>& f) {
@@ -71,15 +137,17 @@ sketch::SketchSolidInput sketchSolidInput(sketch::SolidConstruction construction
             if (o) in.outlinePlane = o->plane;
             break;
         }
-        case C::ThreeSection:
-            in.outline = curve(find(R::Outline));
-            in.surfaceLineX = curve(find(R::SurfaceLineX));
-            in.surfaceLineY = curve(find(R::SurfaceLineY));
-            in.surfaceLineZ = curve(find(R::SurfaceLineZ));
+        case C::ThreeSection: {
+            using P = sketch::SketchPlane;
+            in.outline = curve(find(R::Outline, std::nullopt, P::Front));
+            in.surfaceLineX = curve(find(R::SurfaceLineX, std::nullopt, P::Side));
+            in.surfaceLineY = curve(find(R::SurfaceLineY, std::nullopt, P::Front));
+            in.surfaceLineZ = curve(find(R::SurfaceLineZ, std::nullopt, P::Top));
             break;
+        }
         case C::Sweep:
-            in.sweepSection = curve(find(R::SweepSection));
-            in.sweepPath = curve(find(R::SweepPath));
+            in.sweepSection = curve(find(R::SweepSection, std::nullopt, sketch::SketchPlane::Side));
+            in.sweepPath = curve(find(R::SweepPath, std::nullopt, sketch::SketchPlane::Top));
             break;
         case C::Cut: {
             const auto c = find(R::Cut);

@@ -611,18 +611,22 @@ std::vector<std::vector<core::Vec3>> Studio::curvesInObjectSpace() const {
 int Studio::buildSolid(sketch::SolidConstruction construction, int level) {
     using C = sketch::SolidConstruction;
     endStroke();
+    std::vector<PolylineRef> sources;
     const sketch::SketchSolidInput input = sketchSolidInput(
         construction, mDocument, mDocument.currentIndex(), mPlanes,
-        mLastBuilt ? std::optional<sketch::PolyMesh>(mLastBuilt->polyMesh) : std::nullopt);
+        mLastBuilt ? std::optional<sketch::PolyMesh>(mLastBuilt->polyMesh) : std::nullopt,
+        &sources);
     sketch::SketchSolid built = sketch::buildSketchSolid(input);
-    // Regenerating (the same construction after editing its lines), cutting or extruding the
-    // last solid while it is still the last sculpt step replaces it instead of piling a
-    // second solid onto it.
+    // Regenerating (the same construction from the same lines, edited), cutting or extruding
+    // the last solid while it is still the last sculpt step replaces it instead of piling a
+    // second solid onto it. The same construction from other lines (a head's outline after a
+    // body's) is another solid.
+    const bool changesLast = construction == C::Cut || construction == C::Extrude;
     bool replace = false;
     if (mLastSolid && mLastSolid->timelineIndex < mDone.size() &&
         mDone[mLastSolid->timelineIndex].sculpt() &&
-        (construction == C::Cut || construction == C::Extrude ||
-         construction == mLastSolid->construction)) {
+        (changesLast ||
+         (construction == mLastSolid->construction && sources == mLastSolid->sources))) {
         replace = true;
         for (size_t i = mLastSolid->timelineIndex + 1; i < mDone.size(); ++i)
             if (mDone[i].sculpt()) replace = false;
@@ -631,10 +635,12 @@ int Studio::buildSolid(sketch::SolidConstruction construction, int level) {
     const int used =
         sculpt([&](Session& s) { return s.addSolid(toMesh(built.triangles), level, replace); });
     if (mSession->history().done().size() > before) {
-        const C kept = (construction == C::Cut || construction == C::Extrude) && mLastSolid
-                           ? mLastSolid->construction
-                           : construction;
-        mLastSolid = BuiltSolid{kept, mDone.size() - 1};
+        // A cut or an extrusion changes the last solid: built again from its own lines, that
+        // solid is still the one regenerated.
+        mLastSolid =
+            changesLast && mLastSolid
+                ? BuiltSolid{mLastSolid->construction, mLastSolid->sources, mDone.size() - 1}
+                : BuiltSolid{construction, std::move(sources), mDone.size() - 1};
         mLastBuilt = std::move(built);
     }
     return used;

@@ -187,6 +187,67 @@ TEST(Studio, RegeneratingAfterEditingTheOutlineReplacesTheSolid) {
     EXPECT_EQ(session.history().done().size(), 0u);
 }
 
+// Found by QA: a body inflated, then a head's outline inflated (the body's given role none)
+// replaced the body, which vanished without a word. A solid is regenerated only from the
+// lines it was built from; from other lines it is another solid.
+TEST(Studio, AnotherOutlineInflatedIsAnotherSolidAndTheFirstStays) {
+    Studio studio(smallConfig());
+    const Session& session = studio.session();
+    run(studio, circlePen(100, 0, 20, 1.0, 0.3) + "role outline last\nsolid inflate\n");
+    const double bodyVolume = core::meshVolume(session.wholeMesh());
+    run(studio, "role none stroke 0\n" + circlePen(100, 60, 10, 1.0, 0.3) +
+                    "role outline last\nsolid inflate\n");
+    EXPECT_EQ(session.history().done().size(), 2u);
+    // The body is still there: the sculpture grew by the head.
+    const double both = core::meshVolume(session.wholeMesh());
+    EXPECT_GT(both, bodyVolume * 1.05);
+    core::FieldProbe probe(session.sculpture());  // > 0 inside the clay
+    EXPECT_GT(probe.value(Vec3(100, 0, 0)), 0) << "the body's centre is no longer clay";
+    EXPECT_GT(probe.value(Vec3(100, 0, 60)), 0) << "the head's centre is not clay";
+    // Deleting the body's outline rather than giving it role none: the same.
+    Studio deleted(smallConfig());
+    run(deleted, circlePen(100, 0, 20, 1.0, 0.3) + "role outline last\nsolid inflate\n");
+    run(deleted, "select 0\ndelete\n" + circlePen(100, 60, 10, 1.0, 0.3) +
+                     "role outline last\nsolid inflate\n");
+    EXPECT_EQ(core::canonicalMeshHash(deleted.session().view().mesh()),
+              core::canonicalMeshHash(session.view().mesh()));
+}
+
+// Two outlines on one page: which one was meant is the designer's to say, not the older one's
+// by default (QA: the newer was silently ignored). Lines on the wrong view are refused too
+// (QA: a sweep path drawn on a front page ran along y, not up).
+TEST(Studio, AmbiguousRolesAndLinesOnTheWrongViewAreRefusedByName) {
+    Studio studio(smallConfig());
+    run(studio, "page body\n" + circlePen(100, 0, 20, 1.0, 0.3) + "role outline last\n" +
+                    circlePen(-100, 0, 20, 1.0, 0.3) + "role outline last\n");
+    try {
+        run(studio, "solid inflate\n");
+        ADD_FAILURE() << "two outlines were taken";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_STREQ(e.what(),
+                     "inflate: page 'body' has 2 outline lines (stroke 0, stroke 1); give the "
+                     "ones not meant role none");
+    }
+    EXPECT_EQ(studio.session().history().done().size(), 0u);
+    run(studio, "role none stroke 1\nsolid inflate\n");
+    EXPECT_EQ(studio.session().history().done().size(), 1u);
+
+    Studio sweep(smallConfig());
+    run(sweep, "page side-view\n" + circlePen(0, 40, 6, 1.0, 0.0) +
+                   "role sweep-section last\npage body\n" + linePen(-30, 0, 30, 0) +
+                   "role sweep-path last\n");
+    try {
+        run(sweep, "solid sweep\n");
+        ADD_FAILURE() << "a path on a front view was taken as a top view's";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("the sweep-path line must be drawn on a top view; "
+                                             "page 'body' is a front view"),
+                  std::string::npos)
+            << e.what();
+    }
+    EXPECT_EQ(sweep.session().history().done().size(), 0u);
+}
+
 TEST(Studio, SweepFromASideSectionAndATopPath) {
     Studio studio(smallConfig());
     const Session& session = studio.session();

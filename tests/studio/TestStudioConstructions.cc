@@ -107,25 +107,42 @@ TEST(StudioConstructions, ThreeSectionsFromPenStrokesOnThreeViews) {
                 EXPECT_NEAR(probe.value(Vec3(x, y, z)), probe.value(Vec3(x, -y, z)), 1e-3);
 }
 
-TEST(StudioConstructions, RedrawingTheBackLineTallerRegeneratesTheSolid) {
+TEST(StudioConstructions, EditingTheLinesRegeneratesTheSolidRedrawingThemAddsOne) {
+    // Edited in place (the body page's outline and back line moved 4 mm up): built again, the
+    // solid is replaced, exactly as if the edited lines had been built once.
     Studio studio(emptyConfig());
     const Session& session = studio.session();
     run(studio, threeSectionScript(20));
     const uint64_t first = core::canonicalMeshHash(session.view().mesh());
     const double firstTop = core::meshBounds(session.wholeMesh()).max.z;
-    // Taller: the outline (stroke 0) and the back line (stroke 1) on the body page redrawn
-    // 6 mm higher, the old ones deleted, and the solid built again.
-    const std::string taller = threeSectionScript(26);
-    const std::string bodyStrokes = taller.substr(0, taller.find("page side-view"));
-    run(studio, "page body\nselect 0 1\ndelete\n" + bodyStrokes + "solid three-section\n");
-    EXPECT_EQ(session.history().done().size(), 2u);  // a replacing step, not a second solid
+    const std::string edit = "page body\nselect 0 1\nmove 0 4\n";
+    run(studio, edit + "solid three-section\n");
+    EXPECT_EQ(session.history().done().size(), 2u);
     const core::Mesh mesh = session.wholeMesh();
     EXPECT_EQ(core::analyzeTopology(mesh).components, 1u);
     EXPECT_TRUE(core::analyzeTopology(mesh).watertight());
-    EXPECT_NEAR(core::meshBounds(mesh).max.z, 26, spacingOfLastStep(session));
     EXPECT_GT(core::meshBounds(mesh).max.z, firstTop + 3);
+    Studio once(emptyConfig());
+    run(once, threeSectionScript(20).substr(0, threeSectionScript(20).rfind("solid")) + edit +
+                  "solid three-section\n");
+    EXPECT_EQ(core::canonicalMeshHash(session.view().mesh()),
+              core::canonicalMeshHash(once.session().view().mesh()))
+        << "the first solid's clay was not all taken away";
     studio.undo();
     EXPECT_EQ(core::canonicalMeshHash(session.view().mesh()), first);
+
+    // Redrawn (the old lines deleted, new ones drawn 6 mm lower): other lines, so another
+    // solid; the first is kept, still 20 mm high (undo it first to replace it).
+    Studio redrawn(emptyConfig());
+    run(redrawn, threeSectionScript(20));
+    const std::string lower = threeSectionScript(14);
+    const std::string bodyStrokes = lower.substr(0, lower.find("page side-view"));
+    run(redrawn, "page body\nselect 0 1\ndelete\n" + bodyStrokes + "solid three-section\n");
+    const Session& r = redrawn.session();
+    EXPECT_EQ(r.history().done().size(), 2u);
+    EXPECT_EQ(core::meshBounds(r.wholeMesh()).max.z, firstTop) << "the first solid was taken away";
+    redrawn.undo();
+    EXPECT_EQ(core::canonicalMeshHash(r.view().mesh()), first);
 }
 
 TEST(StudioConstructions, CutStrokeTakesOffOneSide) {

@@ -17,16 +17,31 @@ namespace vsculpt::studio {
 /// "inflate", "three-section", "sweep", "cut", "extrude"; std::invalid_argument otherwise.
 sketch::SolidConstruction constructionFromName(const std::string& name);
 
+/// One polyline a solid was built from: its page and its stroke or clean-curve id. A solid
+/// built again from the same polylines (edited) replaces the first; from others it is a new
+/// solid.
+struct PolylineRef {
+    size_t page = 0;
+    bool fromCurve = false;
+    int id = -1;
+    bool operator==(const PolylineRef&) const = default;
+};
+
 /// Gathers each role's polyline: from the current page first, then the other pages in order
-/// (the first polyline with a role wins). A polyline's view is its page's plane, except where
-/// the construction fixes it (three-section: outline and Y front, X side, Z top; sweep: section
-/// side, path top). Extrude: the closed Extrude polyline is the base, the open one the
-/// silhouette. `previous` is the solid cut and extrude change.
+/// (the first page with one wins). Two polylines with one role on that page (two outlines)
+/// are refused (std::invalid_argument naming the page and the strokes), rather than one
+/// silently ignored. A polyline's view is its page's plane; three-section needs its outline and
+/// surface-y on a front view, surface-x on a side view and surface-z on a top view, sweep its
+/// section on a side view and its path on a top view, and a line on another view is refused
+/// (std::invalid_argument naming the page and its view). Extrude: the closed Extrude polyline
+/// is the base, the open one the silhouette. `previous` is the solid cut and extrude change.
+/// `used`, when given, receives the polylines used, in a fixed order.
 sketch::SketchSolidInput sketchSolidInput(sketch::SolidConstruction construction,
                                           const studio::SketchDocument& document,
                                           size_t currentPage,
                                           const std::vector<sketch::SketchPlane>& planes,
-                                          const std::optional<sketch::PolyMesh>& previous);
+                                          const std::optional<sketch::PolyMesh>& previous,
+                                          std::vector<PolylineRef>* used = nullptr);
 
 /// The same triangles as a core mesh (no normals).
 core::Mesh toMesh(const sketch::TriangleMesh& triangles);

@@ -16,6 +16,7 @@
 #include "vsculpt/studio/Script.h"
 #include "vsculpt/studio/Session.h"
 #include "vsculpt/studio/SketchDocument.h"
+#include "vsculpt/studio/SketchSolids.h"
 
 #include <filesystem>
 #include <functional>
@@ -264,6 +265,7 @@ class Studio {
     // The last solid built from a page, for regeneration after editing its lines.
     struct BuiltSolid {
         sketch::SolidConstruction construction;
+        std::vector<PolylineRef> sources;  // the polylines it was built from
         size_t timelineIndex = 0;
     };
     std::optional<BuiltSolid> mLastSolid;

@@ -4,11 +4,14 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
+#include <filesystem>
 #include <stdexcept>
 
 #include <spdlog/spdlog.h>
 
 namespace vsculpt::app {
+
+namespace fs = std::filesystem;
 
 std::pair<int, int> parseImageSize(const std::string& text, const std::string& option) {
     int w = 0, h = 0, used = 0;
@@ -34,6 +37,51 @@ void requirePngPath(const std::filesystem::path& path, const std::string& option
     if (ext != ".png")
         throw std::invalid_argument(option + " " + path.string() +
                                     ": images are written as PNG; name the file .png");
+}
+
+void requireRecordingPath(const std::filesystem::path& path, const std::string& option) {
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext != ".vsrec")
+        throw std::invalid_argument(option + " " + path.string() +
+                                    ": device recordings are written as .vsrec; name the file "
+                                    ".vsrec");
+}
+
+namespace {
+
+fs::path resolvedPath(const std::string& path) {
+    std::error_code ec;
+    const fs::path absolute = fs::absolute(path, ec);
+    if (ec) return fs::path(path).lexically_normal();
+    const fs::path resolved = fs::weakly_canonical(absolute, ec);
+    return ec ? absolute.lexically_normal() : resolved;
+}
+
+}  // namespace
+
+std::string outputClash(const std::vector<std::pair<std::string, std::string>>& written,
+                        const std::string& script, const std::string& config,
+                        const std::string& projectDir) {
+    for (size_t i = 0; i < written.size(); ++i) {
+        const auto& [option, path] = written[i];
+        const fs::path p = resolvedPath(path);
+        for (size_t k = 0; k < i; ++k)
+            if (resolvedPath(written[k].second) == p)
+                return option + " " + path + ": the same file as " + written[k].first + " " +
+                       written[k].second + " (each output needs its own file)";
+        if (!script.empty() && p == resolvedPath(script))
+            return option + " " + path +
+                   ": that is the script being played; it would be overwritten";
+        if (!config.empty() && p == resolvedPath(config))
+            return option + " " + path + ": that is the --config file; it would be overwritten";
+        if (!projectDir.empty() && p.parent_path() == resolvedPath(projectDir))
+            return option + " " + path + ": inside the project folder " + projectDir +
+                   ", which holds the project's own files (write it to another folder, such as " +
+                   (fs::path(projectDir) / "exports").string() + ")";
+    }
+    return "";
 }
 
 bool keepLastFrame(render::Viewer& viewer, const std::string& shotPath, render::Image* lastFrame) {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/app/DeviceCommands.h"
 
+#include "vsculpt/app/CliChecks.h"
 #include "vsculpt/app/DeviceInput.h"
 #include "vsculpt/app/Interrupt.h"
 #include "vsculpt/app/LiveDevices.h"
@@ -139,6 +140,15 @@ int runRecord(const RecordOptions& o, std::ostream& out, std::ostream& err) {
     }
     if (o.outPath.empty()) {
         spdlog::error("--out FILE is required");
+        return 2;
+    }
+    try {
+        requireRecordingPath(o.outPath, "--out");
+        if (const std::string clash = outputClash({{"--out", o.outPath}}, "", o.configPath, "");
+            !clash.empty())
+            throw std::invalid_argument(clash);
+    } catch (const std::invalid_argument& e) {
+        spdlog::error("{}", e.what());
         return 2;
     }
     std::unique_ptr<devices::RecordingWriter> writer;

@@ -37,40 +37,6 @@ namespace fs = std::filesystem;
 
 // A path as the file system resolves it (links, "..", relative to the working folder), also
 // for a file not made yet.
-fs::path resolvedPath(const std::string& path) {
-    std::error_code ec;
-    const fs::path absolute = fs::absolute(path, ec);
-    if (ec) return fs::path(path).lexically_normal();
-    const fs::path resolved = fs::weakly_canonical(absolute, ec);
-    return ec ? absolute.lexically_normal() : resolved;
-}
-
-// Two outputs on one file, or an output on the script, the config or a project's own files
-// (every file directly in its folder: snapshot, journal, their backups, sketch.json, lock):
-// the run would overwrite what it reads or writes. The message, or "" when none clash.
-std::string outputClash(const std::vector<std::pair<std::string, std::string>>& written,
-                        const std::string& script, const std::string& config,
-                        const std::string& projectDir) {
-    for (size_t i = 0; i < written.size(); ++i) {
-        const auto& [option, path] = written[i];
-        const fs::path p = resolvedPath(path);
-        for (size_t k = 0; k < i; ++k)
-            if (resolvedPath(written[k].second) == p)
-                return option + " " + path + ": the same file as " + written[k].first + " " +
-                       written[k].second + " (each output needs its own file)";
-        if (p == resolvedPath(script))
-            return option + " " + path +
-                   ": that is the script being played; it would be overwritten";
-        if (!config.empty() && p == resolvedPath(config))
-            return option + " " + path + ": that is the --config file; it would be overwritten";
-        if (!projectDir.empty() && p.parent_path() == resolvedPath(projectDir))
-            return option + " " + path + ": inside the project folder " + projectDir +
-                   ", which holds the project's own files (write it to another folder, such as " +
-                   (fs::path(projectDir) / "exports").string() + ")";
-    }
-    return "";
-}
-
 std::string hex(uint64_t v) {
     char b[17];
     std::snprintf(b, sizeof b, "%016llx", static_cast<unsigned long long>(v));

@@ -75,6 +75,15 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
     }
     spdlog::debug("config: {}", cfg.source);
     if (o.xr.value_or(cfg.render.output == "xr")) return runXr(o, cfg, std::move(script), out, err);
+    if (!o.recordPath.empty()) {
+        // Not silently ignored (found by QA): the user expects a file that would never come.
+        spdlog::error(
+            "--record {}: records a headset session's controllers; it needs --xr (or "
+            "render.output \"xr\" in the config). `vsculpt record --out FILE` records "
+            "trackers, 3D mice and tablets",
+            o.recordPath);
+        return 2;
+    }
     std::map<int, std::string> actionOfKey;
     if (!bindingsByKey(cfg, cfg.interaction.bindings, "bindings", actionOfKey)) return 2;
     std::unique_ptr<render::Viewer> viewer;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/app/XrWindow.h"
 
+#include "vsculpt/app/CliChecks.h"
 #include "vsculpt/app/Interrupt.h"
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/app/XrInput.h"
@@ -66,8 +67,18 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
           std::ostream& out, std::ostream& err) {
     LogScope log(err, options.verbosity, "vsculpt");
     const WindowOptions& o = options;
+    // A recording written over the script played, the config or the project's own files would
+    // lose them (found by QA: --record DIR/journal.vjl left a project that no longer opened).
+    auto recordClash = [&](const std::string& projectDir) {
+        return outputClash({{"--record", o.recordPath}}, o.playScript, o.configPath, projectDir);
+    };
     try {
-        if (!o.recordPath.empty()) core::ensureWritable(o.recordPath);
+        if (!o.recordPath.empty()) {
+            if (const std::string clash = recordClash(o.projectDir); !clash.empty())
+                throw std::invalid_argument(clash);
+            requireRecordingPath(o.recordPath, "--record");
+            core::ensureWritable(o.recordPath);
+        }
     } catch (const std::exception& e) {
         spdlog::error("{}", e.what());
         return 2;
@@ -84,6 +95,7 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
                      o.recordPath.empty() ? "" : "; nothing is recorded");
         WindowOptions w = options;
         w.xr = false;
+        w.recordPath.clear();  // said above: nothing is recorded
         return runWindow(w, out, err);
     }
     spdlog::info("openxr: {} on {} (OpenGL {})", xr->systemName(), xr->runtimeName(),
@@ -107,6 +119,13 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
     } catch (const std::exception& e) {
         spdlog::error("{}", e.what());
         return 2;
+    }
+    // The project chosen for the session (the last one, or a new autosave project).
+    if (const auto& dir = rig->session().projectDir(); dir && !o.recordPath.empty()) {
+        if (const std::string clash = recordClash(dir->string()); !clash.empty()) {
+            spdlog::error("{}", clash);
+            return 2;
+        }
     }
     logLines(spdlog::level::info, rig->projectSummary());
     try {

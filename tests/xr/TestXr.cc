@@ -58,7 +58,8 @@ class Xr : public ::testing::Test {
     /// vsculpt ARGS with the test runtime (or `manifest`) and the validation layer.
     XrRun run(const std::string& script, const std::string& args,
               const std::string& manifest = VSCULPT_XR_TEST_MANIFEST,
-              const std::string& extraEnv = "", bool display = true) {
+              const std::string& extraEnv = "", bool display = true,
+              const std::string& project = "--no-project") {
         const fs::path scriptPath = write("script.txt", script);
         const fs::path logPath = mDir / "runtime.log", validationPath = mDir / "validation.txt";
         fs::remove(logPath);
@@ -70,8 +71,8 @@ class Xr : public ::testing::Test {
             << validationPath.string() << "'"
             << " VSCULPT_TEST_XR_SCRIPT='" << scriptPath.string() << "'"
             << " VSCULPT_TEST_XR_LOG='" << logPath.string() << "' " << extraEnv << " "
-            << (display ? "" : "env -u DISPLAY -u WAYLAND_DISPLAY ") << VSCULPT_BINARY
-            << " --no-project --no-devices --hidden " << args << " 2>&1";
+            << (display ? "" : "env -u DISPLAY -u WAYLAND_DISPLAY ") << VSCULPT_BINARY << " "
+            << project << " --no-devices --hidden " << args << " 2>&1";
         XrRun r;
         FILE* p = ::popen(cmd.str().c_str(), "r");
         if (!p) return r;
@@ -320,6 +321,49 @@ TEST_F(Xr, RecordingReplaysToTheSameSculpture) {
     ASSERT_EQ(play(rec, playOut), 0) << playOut;
     EXPECT_EQ(match(playOut, "mesh hash ([0-9a-f]{16})"), liveHash) << r.output << "\n" << playOut;
     EXPECT_NE(playOut.find("xr: "), std::string::npos) << "the device summary:\n" << playOut;
+}
+
+// Found by QA: --record wrote over whatever it was given, the project's journal included (the
+// project then no longer opened), or the script being played; and without --xr it was
+// silently ignored. All are refused before the session, the files untouched.
+TEST_F(Xr, ARecordingThatWouldOverwriteTheSessionsOwnFilesIsRefused) {
+    const std::string scriptText = "stroke 0 0 40  10 0 40\n";
+    const fs::path script = write("s.vsc", scriptText);
+    XrRun r = run(
+        "", "--xr --frames 3 --play '" + script.string() + "' --record '" + script.string() + "'");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("that is the script being played"), std::string::npos) << r.output;
+    std::ifstream in(script);
+    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), scriptText);
+
+    // The project's own files: a journal with one edit, left as it was.
+    const fs::path project = mDir / "p";
+    ASSERT_EQ(std::system((std::string(VSCULPT_BINARY) + " play '" + script.string() +
+                           "' --project '" + project.string() + "' -q")
+                              .c_str()),
+              0);
+    const std::string snapshot = [&] {
+        std::ifstream f(project / "snapshot.vsnap", std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(f), {});
+    }();
+    r = run("", "--xr --frames 3 --record '" + (project / "journal.vsrec").string() + "'",
+            VSCULPT_XR_TEST_MANIFEST, "", true, "--project '" + project.string() + "'");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("inside the project folder"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(project / "journal.vsrec"));
+    {
+        std::ifstream f(project / "snapshot.vsnap", std::ios::binary);
+        EXPECT_EQ(std::string(std::istreambuf_iterator<char>(f), {}), snapshot);
+    }
+
+    // Not a recording's name, and --record without a headset session.
+    r = run("", "--xr --frames 3 --record '" + (mDir / "take.png").string() + "'");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("name the file .vsrec"), std::string::npos) << r.output;
+    r = run("", "--frames 3 --record '" + (mDir / "take.vsrec").string() + "'");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("it needs --xr"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(mDir / "take.vsrec"));
 }
 
 TEST_F(Xr, LeftButtonsCycleTheToolOnTouchControllers) {

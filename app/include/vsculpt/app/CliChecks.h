@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace vsculpt::app {
 
@@ -19,6 +20,19 @@ std::pair<int, int> parseImageSize(const std::string& text, const std::string& o
 /// Images are written as PNG only: a path that does not end in .png is refused (rather than a
 /// PNG written under a .jpg name). Throws std::invalid_argument naming `option`.
 void requirePngPath(const std::filesystem::path& path, const std::string& option);
+
+/// A device recording is written as .vsrec (what `vsculpt play` and the docs call one), not
+/// under another format's name. Throws std::invalid_argument naming `option`.
+void requireRecordingPath(const std::filesystem::path& path, const std::string& option);
+
+/// Two outputs on one file, or an output on the script, the config or a project's own files
+/// (every file directly in `projectDir`: snapshot, journal, their backups, sketch.json, lock):
+/// the run would overwrite what it reads or writes. Paths are compared resolved (`..`, links).
+/// `written` holds (option, path) pairs; empty `script`, `config`, `projectDir` are skipped.
+/// The message naming the option, or "" when none clash.
+std::string outputClash(const std::vector<std::pair<std::string, std::string>>& written,
+                        const std::string& script, const std::string& config,
+                        const std::string& projectDir);
 
 /// A window run's last frame: read back, handed to `lastFrame` (tests) when given and written to
 /// `shotPath` (--shot) when not empty. False, with the error logged, when the PNG cannot be

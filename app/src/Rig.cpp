@@ -42,13 +42,17 @@ std::filesystem::path dataDir() {
     return std::filesystem::temp_directory_path() / "vsculpt";
 }
 
-std::optional<std::filesystem::path> lastProject() {
+std::optional<std::filesystem::path> lastProjectRecorded() {
     std::ifstream in(dataDir() / "last-project");
     std::string line;
     if (!std::getline(in, line) || line.empty()) return std::nullopt;
-    const std::filesystem::path dir(line);
+    return std::filesystem::path(line);
+}
+
+std::optional<std::filesystem::path> lastProject() {
+    const auto dir = lastProjectRecorded();
     std::error_code ec;
-    if (!std::filesystem::exists(core::snapshotPath(dir), ec)) return std::nullopt;
+    if (!dir || !std::filesystem::exists(core::snapshotPath(*dir), ec)) return std::nullopt;
     return dir;
 }
 
@@ -211,6 +215,13 @@ Rig::Rig(const core::SculptConfig& cfg, const RigOptions& options)
                 } catch (const std::exception& e) {
                     spdlog::warn("the last project cannot be opened: {}", e.what());
                 }
+            } else if (const auto gone = lastProjectRecorded()) {
+                // Moved, renamed or deleted: say so, or the user thinks the work is lost when
+                // it is only elsewhere (found by QA: a new empty project opened in silence).
+                spdlog::warn(
+                    "the last project, {}, is no longer there (moved or deleted?); starting a "
+                    "new one. Open a moved project with --project DIR",
+                    gone->string());
             }
             if (!mStudio) openStudio(newProjectDir("autosave"));
             break;

@@ -106,6 +106,38 @@ TEST(RecentProjects, GivenProjectsOfWindowsAreRecentButNotLast) {
     fs::remove_all(root);
 }
 
+// The last project moved or deleted: a plain `vsculpt` starts a new project, and says why, so
+// the user looks for the old one rather than thinking the work lost (found by QA).
+TEST(RecentProjects, ALastProjectNoLongerThereIsNamedWhenANewOneStarts) {
+    const fs::path root = freshDir("vsculpt-moved");
+    ScopedEnv data("XDG_DATA_HOME", root / "data");
+    core::SculptConfig cfg;
+    cfg.polygonizer.gridN = 16;
+    { app::Rig rig(cfg, app::windowRigOptions("", false, false)); }
+    const auto first = app::lastProject();
+    ASSERT_TRUE(first.has_value());
+    fs::rename(*first, root / "moved");
+    std::ostringstream log;
+    {
+        app::LogScope scope(log, app::Verbosity::Normal);
+        app::Rig rig(cfg, app::windowRigOptions("", false, false));
+        ASSERT_TRUE(rig.session().projectDir().has_value());
+        EXPECT_EQ(rig.session().recoveredEdits(), 0u);
+    }
+    EXPECT_NE(log.str().find("the last project, " + first->string() +
+                             ", is no longer there (moved or deleted?)"),
+              std::string::npos)
+        << log.str();
+    // The new project is the last one now: the next start continues it without a warning.
+    std::ostringstream again;
+    {
+        app::LogScope scope(again, app::Verbosity::Normal);
+        app::Rig rig(cfg, app::windowRigOptions("", false, false));
+    }
+    EXPECT_EQ(again.str().find("no longer there"), std::string::npos) << again.str();
+    fs::remove_all(root);
+}
+
 // Opening a recent project switches the rig's studio only once the new one is open and
 // locked: a folder without a project, or one open elsewhere, leaves the session as it was.
 TEST(RecentProjects, OpeningOneSwitchesSafely) {

@@ -52,6 +52,8 @@ RigOptions windowRigOptions(const std::string& projectDir, bool noProject, bool 
 std::filesystem::path dataDir();
 /// The project the windows opened last, when it still exists.
 std::optional<std::filesystem::path> lastProject();
+/// The project the windows opened last as recorded, whether it still exists or not.
+std::optional<std::filesystem::path> lastProjectRecorded();
 /// Remembers `dir` as the last project and at the top of the recent projects (best effort:
 /// a failure is only reported).
 void rememberLastProject(const std::filesystem::path& dir);

@@ -127,10 +127,19 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     cli.add_flag("--hidden", window.hidden, "Do not show the window (automated runs)");
     cli.add_flag("!--no-devices", window.devices,
                  "Do not open trackers, 3D mice or headsets (mouse and keyboard only)");
-    cli.add_option("--project", window.projectDir,
-                   "Project folder for the window: opened (and recovered) if it exists, created "
-                   "otherwise. Default: the last project, or a new autosave project under "
-                   "$XDG_DATA_HOME/vsculpt/autosave; every step is journaled as it is made");
+    // `--project "$DIR"` with DIR unset would otherwise run without the project meant.
+    const CLI::Validator notEmpty(
+        [](std::string& value) -> std::string {
+            return value.empty() ? "must not be empty (an unset shell variable?)" : "";
+        },
+        "");
+    auto* windowProject =
+        cli.add_option(
+               "--project", window.projectDir,
+               "Project folder for the window: opened (and recovered) if it exists, created "
+               "otherwise. Default: the last project, or a new autosave project under "
+               "$XDG_DATA_HOME/vsculpt/autosave; every step is journaled as it is made")
+            ->check(notEmpty);
     bool xr = false;
     cli.add_flag("--xr", xr,
                  "Sculpt in an OpenXR headset (Monado, SteamVR; docs/xr.md): right controller = "
@@ -139,7 +148,8 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
                    "With --xr: record the controllers to FILE.vsrec, a report a frame (replay: "
                    "vsculpt play FILE)");
     cli.add_flag("--no-project", window.noProject,
-                 "A scratch session: nothing is saved (the window's work is lost on exit)");
+                 "A scratch session: nothing is saved (the window's work is lost on exit)")
+        ->excludes(windowProject);
     CLI::App* infoCmd = cli.add_subcommand(
         "info", "Print the initial sculpture's summary: tool levels, calibration, mesh");
 
@@ -166,9 +176,11 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
                       "After every edit, compare the incremental mesh with a full rebuild");
     playCmd->add_option("--threads", play.threads, "Worker threads (default: all cores)")
         ->check(CLI::Range(1, 256));
-    playCmd->add_option("--project", play.projectDir,
-                        "Project folder: opened (and recovered) if it exists, created otherwise; "
-                        "every edit is journaled");
+    playCmd
+        ->add_option("--project", play.projectDir,
+                     "Project folder: opened (and recovered) if it exists, created otherwise; "
+                     "every edit is journaled")
+        ->check(notEmpty);
     playCmd
         ->add_option_function<std::string>(
             "--export-spacing",
@@ -211,12 +223,15 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         "sketch",
         "Open the sketch window: a pen-tablet canvas beside the sculpture; sketches become "
         "solids in it (docs/sketch-mode.md)");
-    sketchCmd->add_option("--project", sketchOpts.projectDir,
-                          "Project folder: opened if it exists, created otherwise; every "
-                          "sketch and sculpt step is saved as it is made. Default: the last "
-                          "project, or a new autosave project");
-    sketchCmd->add_flag("--no-project", sketchOpts.noProject,
-                        "A scratch session: nothing is saved");
+    auto* sketchProject =
+        sketchCmd
+            ->add_option("--project", sketchOpts.projectDir,
+                         "Project folder: opened if it exists, created otherwise; every "
+                         "sketch and sculpt step is saved as it is made. Default: the last "
+                         "project, or a new autosave project")
+            ->check(notEmpty);
+    sketchCmd->add_flag("--no-project", sketchOpts.noProject, "A scratch session: nothing is saved")
+        ->excludes(sketchProject);
     sketchCmd->add_option("--play", sketchOpts.playScript,
                           "Run a playback script (sketch commands too) in the window, a command "
                           "per frame");

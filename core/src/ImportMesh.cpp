@@ -203,6 +203,7 @@ constexpr size_t kMaxNestingWork = 200'000'000;
 
 struct Orientation {
     size_t openEdges = 0, nonManifoldEdges = 0, conflicts = 0, flipped = 0;
+    size_t cavities = 0;  // pieces inside an odd number of others
     bool nestingSkipped = false;
     bool closed() const { return openEdges == 0 && nonManifoldEdges == 0 && conflicts == 0; }
 };
@@ -350,6 +351,7 @@ Orientation orient(Mesh& m) {
         // Inside an even number of pieces: a solid, outward; odd: a cavity, inward.
         const bool wantPositive = depth[p] % 2 == 0;
         flipPiece[p] = (volume[p] > 0) != wantPositive && volume[p] != 0;
+        o.cavities += !wantPositive;
     }
     for (uint32_t t = 0; t < n; ++t) {
         if (flipPiece[piece[t]]) {
@@ -469,6 +471,12 @@ Mesh makeSolidMesh(const Mesh& mesh, const std::string& name, const ImportOption
     if (o.flipped > 0)
         r.notes.push_back(name + ": " + std::to_string(o.flipped) +
                           " triangle(s) rewound to face outward");
+    if (o.cavities > 0)
+        // Placement fills what the outside cannot reach (PlaceSolid.h): clay has no hidden
+        // voids. Said, so a hollow part's weight or a print's wall is not taken on trust.
+        r.notes.push_back(name + ": warning: " + std::to_string(o.cavities) + " enclosed cavit" +
+                          (o.cavities == 1 ? "y" : "ies") +
+                          " (a hollow inside the mesh) will be filled: clay is solid inside");
     if (o.nestingSkipped)
         r.notes.push_back(name +
                           ": warning: too many pieces inside others to tell cavities "

@@ -474,12 +474,12 @@ Mesh makeSolidMesh(const Mesh& mesh, const std::string& name, const ImportOption
     if (o.cavities > 0)
         // Placement fills what the outside cannot reach (PlaceSolid.h): clay has no hidden
         // voids. Said, so a hollow part's weight or a print's wall is not taken on trust.
-        r.notes.push_back(name + ": warning: " + std::to_string(o.cavities) + " enclosed cavit" +
+        r.notes.push_back(name + ": " + std::to_string(o.cavities) + " enclosed cavit" +
                           (o.cavities == 1 ? "y" : "ies") +
                           " (a hollow inside the mesh) will be filled: clay is solid inside");
     if (o.nestingSkipped)
         r.notes.push_back(name +
-                          ": warning: too many pieces inside others to tell cavities "
+                          ": too many pieces inside others to tell cavities "
                           "from solids; every piece faces outward (cavities are filled)");
     const bool inverted = o.closed() && !(meshVolume(m) > 0);
     if (!o.closed() || inverted) {
@@ -526,7 +526,7 @@ Mesh makeSolidMesh(const Mesh& mesh, const std::string& name, const ImportOption
                            std::to_string(topo.boundaryEdges) + " open and " +
                            std::to_string(topo.nonManifoldEdges) +
                            " non-manifold edge(s); close it in a mesh editor");
-        r.notes.push_back(name + ": warning: not a closed surface (" + what +
+        r.notes.push_back(name + ": not a closed surface (" + what +
                           "); rebuilt closed through a level set (" + fmt(voxel) +
                           " mm voxels, holes up to about " + fmt(2 * gap) +
                           " mm sealed, creases rounded to " + fmt(gap) + " mm)");

@@ -97,7 +97,14 @@ std::unique_ptr<Session> Session::openProject(const std::filesystem::path& dir,
         try {
             lock = std::make_unique<ProjectLock>(dir, ProjectLock::Mode::ReadOnly);
         } catch (const ProjectError& e) {
-            lockNote = std::string("note: ") + e.what() + "; reading it as it is now";
+            // A reader need not close it: drop the writer's advice (found by QA: "close it
+            // first; reading it as it is now" said both).
+            std::string why = e.what();
+            const std::string advice = "; close it first";
+            if (why.size() > advice.size() &&
+                why.compare(why.size() - advice.size(), advice.size(), advice) == 0)
+                why.resize(why.size() - advice.size());
+            lockNote = why + "; reading it as it is now (later edits are not in it)";
         }
     }
     RecoveredProject found = readProject(dir);

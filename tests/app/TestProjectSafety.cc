@@ -315,6 +315,10 @@ TEST(ProjectSafety, RenderNeverChangesAProject) {
                                    dir);
     EXPECT_EQ(code2, 0) << log2;
     EXPECT_NE(log2.find("open in another vsculpt"), std::string::npos) << log2;
+    EXPECT_NE(log2.find("reading it as it is now"), std::string::npos) << log2;
+    // Neither a note called a warning nor the writer's advice to a reader.
+    EXPECT_EQ(log2.find("note:"), std::string::npos) << log2;
+    EXPECT_EQ(log2.find("close it first"), std::string::npos) << log2;
 }
 
 TEST(ProjectSafety, BadOutputsAndSpacingsAreRefusedBeforeTheRun) {

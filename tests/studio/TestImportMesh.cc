@@ -415,7 +415,7 @@ TEST_F(ImportMesh, WildWindingIsMadeConsistentAndOutward) {
         bool saysFilled = false;
         for (const std::string& note : report.notes)
             saysFilled |= note == path.string() +
-                                      ": warning: 1 enclosed cavity (a hollow inside the mesh) "
+                                      ": 1 enclosed cavity (a hollow inside the mesh) "
                                       "will be filled: clay is solid inside";
         EXPECT_EQ(saysFilled, std::string(name) == "hollow");
     }
@@ -450,7 +450,7 @@ TEST_F(ImportMesh, OpenMeshesAreRepairedWithANoteOrRefused) {
         ms, core::meshVolume(fixed), ballVolume, report.repairVoxelMm, report.repairGapMm);
     EXPECT_NEAR(core::meshVolume(fixed), ballVolume, 0.02 * ballVolume);
     ASSERT_EQ(report.notes.size(), 1u);
-    EXPECT_EQ(report.notes[0].rfind(path.string() + ": warning: not a closed surface", 0), 0u)
+    EXPECT_EQ(report.notes[0].rfind(path.string() + ": not a closed surface", 0), 0u)
         << report.notes[0];
 
     // A cube with a whole triangle missing (a 40 mm hole) needs a gap to match.
@@ -696,7 +696,7 @@ TEST(ImportScript, RepairNotesGoToTheNoticeSink) {
     coarse.repairVoxelMm = 0.75;
     studio.importMesh(path, coarse, 4);
     ASSERT_EQ(notes.size(), 1u);
-    EXPECT_EQ(notes[0].rfind(path.string() + ": warning: not a closed surface", 0), 0u) << notes[0];
+    EXPECT_EQ(notes[0].rfind(path.string() + ": not a closed surface", 0), 0u) << notes[0];
     EXPECT_EQ(studio.stepCount(), 1u);
 }
 

@@ -83,7 +83,7 @@ struct ImportReport {
     bool repaired = false;           ///< rebuilt through a level set
     double repairVoxelMm = 0;        ///< the level sets' voxel size when repaired
     double repairGapMm = 0;          ///< the closing radius when repaired
-    std::vector<std::string> notes;  ///< one line each, naming the file
+    std::vector<std::string> notes;  ///< one line each, naming the file; each a warning (the caller says so)
 };
 
 /// Extensions importMesh() reads, with the dot: ".obj", ".stl", ".ply", ".gltf", ".glb".

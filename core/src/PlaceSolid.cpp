@@ -255,6 +255,21 @@ SolidPlacement placeSolid(Sculpture& sculpture, const Mesh& solid, int level,
     // Vertices up to this far outside the solid (in spacings) can carry weight.
     const double outside = std::max(0.0, 0.5 * cal.rampOverSpacing - cal.insetOverSpacing) + 1.0;
     const Aabb bounds = meshBounds(solid);
+    // Smaller than two spacings a solid leaves no surface (measured: a ball 2.5 mm across at
+    // level 1's 1.48 mm leaves none, 3 mm one 1.2 mm across) yet would make an undo step of
+    // invisible weights (found by QA: an STL in metres imported as mm, a tiny outline).
+    const double across = std::max(
+        {bounds.max.x - bounds.min.x, bounds.max.y - bounds.min.y, bounds.max.z - bounds.min.z});
+    if (across < 2 * h) {
+        char b[96];
+        std::snprintf(b, sizeof b,
+                      "%.3g mm across, less than two lattice spacings of level %d (%.3g", across,
+                      level, h);
+        throw std::invalid_argument(
+            std::string("solid only ") + b + " mm): it would leave no clay; " +
+            (level > 1 ? std::string("choose a finer level or make it larger")
+                       : std::string("make it larger")));
+    }
     LatticeCoord lo, hi;
     int64_t count = 1;
     for (int a = 0; a < 3; ++a) {

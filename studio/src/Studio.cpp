@@ -379,7 +379,16 @@ int Studio::importMesh(const std::filesystem::path& file, const core::ImportOpti
     core::ImportReport& r = report ? *report : local;
     const core::Mesh solid = core::importMesh(file, options, &r);
     if (level == 0) level = core::importLevelFor(mSession->sculpture().levels(), solid);
-    const int used = addSolid(solid, level);
+    int used = 0;
+    try {
+        used = addSolid(solid, level);
+    } catch (const SessionError& e) {
+        throw SessionError(file.string() + ": " + e.what());
+    } catch (const std::invalid_argument& e) {
+        // A mesh in the wrong units is the usual cause of one too small or too large.
+        throw std::invalid_argument(file.string() + ": " + e.what() +
+                                    " (check its units: import ... units mm|cm|m|in, or fit MM)");
+    }
     tellNotes(r);
     return used;
 }

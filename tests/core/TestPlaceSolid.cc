@@ -162,13 +162,35 @@ TEST(PlaceSolid, ASolidInsideClayAddsNothingAndAgainAddsNothing) {
         EXPECT_EQ(storeContents(s), after);
         EXPECT_TRUE(second.changes.empty());
         // A smaller solid well inside the first one: the field there is already clay.
-        const SolidPlacement inner = placeSolid(s, sphereMesh(Vec3(100, 0, 0), 6), first.level);
+        const SolidPlacement inner = placeSolid(s, sphereMesh(Vec3(100, 0, 0), 8), first.level);
         if (mode == PlacementMode::Thesis) {
             EXPECT_TRUE(inner.changes.empty());
         }
         for (const SkeletonChange& c : inner.changes)  // free: only the ramp's rounding
             EXPECT_LT(std::abs(*c.after - c.before.value_or(0)), 1e-3);
     }
+}
+
+// Found by QA: an STL in metres read as mm (0.16 mm across) or a tiny outline made an undo
+// step of weights that left no surface. Less than two spacings across is refused, the
+// sculpture unchanged; just over two leaves clay.
+TEST(PlaceSolid, ASolidTooSmallForItsLevelIsRefusedBeforeItChangesAnything) {
+    Sculpture s(config(PlacementMode::Free));
+    const double h = s.levels().level(1).spacingMm;
+    const auto before = storeContents(s);
+    try {
+        placeSolid(s, sphereMesh(Vec3(100, 0, 0), 0.95 * h), 1);
+        ADD_FAILURE() << "a solid 1.9 spacings across was placed";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("less than two lattice spacings of level 1"),
+                  std::string::npos)
+            << e.what();
+    }
+    EXPECT_EQ(storeContents(s), before);
+    const SolidPlacement placed = placeSolid(s, sphereMesh(Vec3(100, 0, 0), 1.1 * h), 1);
+    ASSERT_FALSE(placed.changes.empty());
+    FieldProbe probe(s);
+    EXPECT_GT(probe.value(Vec3(100, 0, 0)), 0) << "no clay at the centre";
 }
 
 TEST(PlaceSolid, FreeModeFillsACarvedHoleToTheSolidsSize) {

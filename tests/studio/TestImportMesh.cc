@@ -230,7 +230,7 @@ TEST_F(ImportMesh, UnitsAndUpAxesAsDocumented) {
     // An OBJ in metres, Y up (as Blender writes one at its defaults): lands Z up in mm.
     const auto objM = dir.path / "metres.obj";
     writeText(objM, cubeObj(0.01));  // a 20 mm cube
-    ImportOptions metres;
+    core::ImportOptions metres;
     metres.mmPerUnit = core::parseImportUnit("m");
     Mesh m = core::importMesh(objM, metres);
     Aabb b = core::meshBounds(m);
@@ -633,6 +633,28 @@ TEST(ImportScript, ParseErrorsNameFileAndLine) {
             EXPECT_EQ(std::string(e.what()).rfind(want, 0), 0u) << e.what();
         }
     }
+}
+
+// Found by QA: an STL written in metres and read as mm (the default) made an invisible undo
+// step. Refused, naming the file and the likely cause, with no step.
+TEST(ImportScript, AMeshTooSmallForClayIsRefusedNamingTheFileAndTheUnits) {
+    TempDir dir;
+    const auto mesh = dir.path / "in-metres.stl";
+    core::exportMesh(core::boxMesh(Vec3(-0.05), Vec3(0.05)), mesh);  // 0.1 m read as 0.1 mm
+    studio::Studio studio(config());
+    try {
+        studio.importMesh(mesh, {}, 0);
+        ADD_FAILURE() << "a 0.1 mm mesh was placed";
+    } catch (const std::invalid_argument& e) {
+        const std::string what = e.what();
+        EXPECT_EQ(what.rfind(mesh.string() + ": solid only 0.1 mm across", 0), 0u) << what;
+        EXPECT_NE(what.find("check its units"), std::string::npos) << what;
+    }
+    EXPECT_EQ(studio.stepCount(), 0u);
+    core::ImportOptions metres;
+    metres.mmPerUnit = 1000;
+    EXPECT_GT(studio.importMesh(mesh, metres, 0), 0);
+    EXPECT_EQ(studio.stepCount(), 1u);
 }
 
 TEST(ImportScript, OneUndoStepAndAProjectReopensWithoutTheFile) {

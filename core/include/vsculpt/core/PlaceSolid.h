@@ -66,7 +66,8 @@ class PlacementStopped : public std::runtime_error {
 };
 
 /// Adds the solid to the sculpture (one edit). @param level 1..7, or 0 for solidLevelFor().
-/// Throws std::invalid_argument for a bad mesh (validateSolidMesh), a level outside 0..7, or
+/// Throws std::invalid_argument for a bad mesh (validateSolidMesh), a level outside 0..7, a
+/// solid less than two lattice spacings across at that level (it would leave no surface), or
 /// a solid that would need more than 2^25 lattice vertices at that level (choose a larger
 /// one); the sculpture is unchanged then. @param stop when given and raised (by another
 /// thread: a cancelled import), the placement ends early with PlacementStopped: the signed

@@ -178,6 +178,15 @@ bool playNextScriptCommand(Studio& studio, const studio::Script& script, size_t&
     return true;
 }
 
+void warnIfScriptUnfinished(const studio::Script& script, size_t index) {
+    if (index >= script.commands.size()) return;
+    spdlog::warn(
+        "the window closed before the script ended: {}:{} and the {} command(s) after it were "
+        "not run (a window runs one command a frame: --frames {} runs them all)",
+        script.source, script.commands[index].line, script.commands.size() - index - 1,
+        script.commands.size() + 1);
+}
+
 void installProjector(Studio& studio) {
     studio.setSurfaceProjector(
         [](const Session& s, const std::vector<glm::dvec2>& px, glm::ivec2 viewport) {

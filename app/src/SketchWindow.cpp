@@ -588,6 +588,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
     if (o.uiReport) *o.uiReport = uiState;
     if (o.messageReport) *o.messageReport = message;
     // Closing ends the stroke in flight (journaled like any other) and snapshots the project.
+    if (code == 0) warnIfScriptUnfinished(script, commandIndex);
     rig->close();
     spdlog::info("{} frame(s), {} page(s), {} step(s), {} skeletons", frame,
                  rig->studio().document().pageCount(), rig->studio().stepCount(),

@@ -411,6 +411,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
     // Closing ends the stroke in flight (journaled like any other) and snapshots the project.
     // The status line's last word on an export still being written is how it ended.
     if (auto exported = rig->pollBackgroundWork(true)) message = *exported;
+    if (code == 0) warnIfScriptUnfinished(script, commandIndex);
     rig->close();
     if (o.report) {
         WindowOptions::Report& r = *o.report;

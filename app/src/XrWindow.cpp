@@ -359,6 +359,7 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
         code = 1;
     }
     // Closing ends the stroke in flight (journaled like any other) and snapshots the project.
+    if (code == 0) warnIfScriptUnfinished(script, commandIndex);
     rig->close();
     if (recording) {
         recording->write({devices::DeviceEventKind::Left, devices::monotonicNowNs(), recorded, {}});

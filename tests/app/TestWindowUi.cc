@@ -355,6 +355,25 @@ TEST(WindowUi, AScriptLineRefusedClosesTheWindowWithItsWorkSaved) {
     fs::remove(script);
 }
 
+// Found by QA: --frames fewer than the script's commands ended the run part way, silently.
+TEST(WindowUi, AWindowClosedBeforeItsScriptEndedSaysWhereItStopped) {
+    const fs::path script =
+        fs::temp_directory_path() / ("vsculpt-short-" + std::to_string(::getpid()) + ".vsc");
+    std::ofstream(script) << "# three strokes\nstroke 0 0 40  10 0 40\nstroke 0 0 -40  10 0 -40\n"
+                             "stroke 40 0 0  40 10 0\n";
+    for (int frames : {2, 4}) {
+        app::WindowOptions o = scratchWindow(frames);
+        o.playScript = script.string();
+        std::ostringstream out, err;
+        EXPECT_EQ(app::runWindow(o, out, err), 0) << err.str();
+        const bool warned =
+            err.str().find("the window closed before the script ended: " + script.string() +
+                           ":4 and the 0 command(s) after it were not run") != std::string::npos;
+        EXPECT_EQ(warned, frames == 2) << err.str();
+    }
+    fs::remove(script);
+}
+
 TEST(WindowUi, TypingInTheExportDialogRunsNoBindingsAndErrorsStayInTheDialog) {
     const fs::path dir = std::filesystem::temp_directory_path() /
                          ("vsculpt-ui-export-" + std::to_string(::getpid()));

@@ -86,6 +86,9 @@ void installProjector(studio::Studio& studio);
 /// (if any is left) and advances it. On failure logs "FILE:LINE: why" and returns false;
 /// the window then ends with exit code 2.
 bool playNextScriptCommand(studio::Studio& studio, const studio::Script& script, size_t& index);
+/// A window's run ended (--frames, its close box, a signal) before its --play script did:
+/// warns naming the line it stopped at, so a partial run is not taken for the whole.
+void warnIfScriptUnfinished(const studio::Script& script, size_t index);
 
 class Rig {
   public:

@@ -16,6 +16,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -617,6 +618,46 @@ std::vector<std::vector<core::Vec3>> Studio::curvesInObjectSpace() const {
     return out;
 }
 
+namespace {
+
+// The sketch library's messages name the function that refused ("buildSketchSolid: Teddy:
+// outline encloses zero area"): for the designer, only the reason (found by QA).
+std::string withoutFunctionNames(const std::string& message) {
+    auto isFunctionName = [](const std::string& word) {
+        if (word == "Teddy" || word.empty()) return true;
+        bool lower = false, inner = false;
+        for (size_t i = 0; i < word.size(); ++i) {
+            const char c = word[i];
+            if (!std::isalpha(static_cast<unsigned char>(c))) return false;
+            if (std::islower(static_cast<unsigned char>(c))) lower = true;
+            if (i > 0 && lower && std::isupper(static_cast<unsigned char>(c))) inner = true;
+        }
+        return inner;  // camelCase or PascalCase: an identifier, not a word
+    };
+    std::vector<std::string> parts;
+    std::string rest = message;
+    for (size_t at; (at = rest.find(": ")) != std::string::npos; rest = rest.substr(at + 2))
+        if (const std::string head = rest.substr(0, at); !isFunctionName(head))
+            parts.push_back(head);
+    parts.push_back(rest);
+    std::string out;
+    for (size_t i = 0; i < parts.size(); ++i) {
+        // "outline: outline self-intersects": the role said twice.
+        if (i + 1 < parts.size() && parts[i + 1].rfind(parts[i] + " ", 0) == 0) continue;
+        out += (out.empty() ? "" : ": ") + parts[i];
+    }
+    return out;
+}
+
+// "inflate: " + why, unless why already starts with the construction's name.
+std::string refusal(sketch::SolidConstruction construction, const std::string& message) {
+    const std::string name = sketch::constructionName(construction);
+    const std::string why = withoutFunctionNames(message);
+    return why.rfind(name + " ", 0) == 0 ? why : name + ": " + why;
+}
+
+}  // namespace
+
 int Studio::buildSolid(sketch::SolidConstruction construction, int level) {
     using C = sketch::SolidConstruction;
     endStroke();
@@ -625,7 +666,15 @@ int Studio::buildSolid(sketch::SolidConstruction construction, int level) {
         construction, mDocument, mDocument.currentIndex(), mPlanes,
         mLastBuilt ? std::optional<sketch::PolyMesh>(mLastBuilt->polyMesh) : std::nullopt,
         &sources);
-    sketch::SketchSolid built = sketch::buildSketchSolid(input);
+    sketch::SketchSolid built;
+    try {
+        built = sketch::buildSketchSolid(input);
+    } catch (const std::logic_error& e) {
+        if (!dynamic_cast<const std::invalid_argument*>(&e)) throw;  // a broken invariant
+        throw std::invalid_argument(refusal(construction, e.what()));
+    } catch (const std::runtime_error& e) {
+        throw std::runtime_error(refusal(construction, e.what()));
+    }
     // Regenerating (the same construction from the same lines, edited), cutting or extruding
     // the last solid while it is still the last sculpt step replaces it instead of piling a
     // second solid onto it. The same construction from other lines (a head's outline after a

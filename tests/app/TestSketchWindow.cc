@@ -260,8 +260,7 @@ TEST(SketchWindow, BadScriptIsRefusedWithTheLine) {
     o.devices = false;
     std::ostringstream out, err;
     EXPECT_EQ(app::runSketchWindow(o, out, err), 2);
-    EXPECT_NE(err.str().find(script.string() + ":2: buildSketchSolid: outline missing"),
-              std::string::npos)
+    EXPECT_NE(err.str().find(script.string() + ":2: inflate: outline missing"), std::string::npos)
         << err.str();
     std::filesystem::remove(script);
 }

@@ -232,6 +232,20 @@ TEST(Studio, AmbiguousRolesAndLinesOnTheWrongViewAreRefusedByName) {
     run(studio, "role none stroke 1\nsolid inflate\n");
     EXPECT_EQ(studio.session().history().done().size(), 1u);
 
+    // The sketch library's function names stay out of what the designer reads, and a figure
+    // eight is said to cross itself, not to enclose no area.
+    Studio eight(smallConfig());
+    run(eight, std::string("mode draft\n") +
+                   "pen 100,0 110,10 120,0 110,-10 100,0 90,10 80,0 90,-10 100,0\n"
+                   "role outline last\n");
+    try {
+        run(eight, "solid inflate\n");
+        ADD_FAILURE() << "a figure eight was inflated";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("inflate: outline self-intersects: segment ", 0), 0u)
+            << e.what();
+    }
+
     Studio sweep(smallConfig());
     run(sweep, "page side-view\n" + circlePen(0, 40, 6, 1.0, 0.0) +
                    "role sweep-section last\npage body\n" + linePen(-30, 0, 30, 0) +

@@ -101,6 +101,16 @@ Polyline2 validated(const Polyline2& outline) {
     for (const auto& p : points)
         lo = glm::min(lo, p), hi = glm::max(hi, p);
     const double extent = glm::length(hi - lo);
+    // Points on one line enclose nothing. Otherwise simplicity first: a symmetric figure
+    // eight's signed area is zero too, and "crosses itself" is what the designer can fix
+    // (found by QA).
+    std::size_t far = 0;
+    for (std::size_t i = 1; i < points.size(); ++i)
+        if (glm::distance(points[i], points[0]) > glm::distance(points[far], points[0])) far = i;
+    bool onALine = true;
+    for (const auto& p : points)
+        onALine = onALine && std::abs(orient(points[0], points[far], p)) <= 1e-12 * extent * extent;
+    if (!onALine) requireSimple(points, "outline");
     if (std::abs(signedArea(points)) <= 1e-12 * extent * extent)
         throw std::invalid_argument("Teddy: outline encloses zero area");
     requireSimple(points, "outline");

@@ -108,6 +108,9 @@ struct Script {
 /// @param sourceName the script's path (or a name): error messages start with it, and
 /// relative `import` paths are resolved against its folder.
 Script parseScript(std::string_view text, const std::string& sourceName);
+/// Reads and parses the file; ScriptError when it cannot be read, for a bad line (with its
+/// number), and for an `import` whose mesh file cannot be opened (checked here, before any
+/// command runs).
 Script loadScript(const std::filesystem::path& path);
 
 }  // namespace vsculpt::studio

@@ -69,6 +69,36 @@ double defaultMmPerUnit(const std::string& ext) {
     return ext == ".glb" || ext == ".gltf" ? 1000.0 : 1.0;
 }
 
+/// The frame vsculpt wrote the file in, when it says so: exports with --up/--units name it in
+/// the STL header, the OBJ's first comment or the PLY's comment ("centimetres, +Y up"), so
+/// such a file comes back where it was without the options (found by QA: an STL in cm came
+/// back ten times small).
+struct FileFrame {
+    std::optional<UpAxis> up;
+    std::optional<double> mmPerUnit;
+};
+FileFrame vsculptFrame(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::string head(256, '\0');
+    in.read(head.data(), std::streamsize(head.size()));
+    head.resize(size_t(std::max<std::streamsize>(0, in.gcount())));
+    FileFrame f;
+    if (head.find("vsculpt") == std::string::npos) return f;
+    for (const auto& [word, mm] : {std::pair<const char*, double>{"millimetres, +", 1.0},
+                                   {"centimetres, +", 10.0},
+                                   {" metres, +", 1000.0}}) {
+        const size_t at = head.find(word);
+        if (at == std::string::npos) continue;
+        const size_t axis = at + std::strlen(word);
+        if (axis + 4 > head.size() || head.compare(axis + 1, 3, " up") != 0) continue;
+        if (head[axis] != 'Y' && head[axis] != 'Z') continue;
+        f.mmPerUnit = mm;
+        f.up = head[axis] == 'Y' ? UpAxis::Y : UpAxis::Z;
+        break;
+    }
+    return f;
+}
+
 /// File frame -> object space (Z up, mm): undo the export's quarter turn (x, y, z) ->
 /// (x, z, -y), then scale.
 Vec3 objectFromFile(const Vec3& p, UpAxis up, double mmPerUnit) {
@@ -612,8 +642,12 @@ Mesh importMesh(const std::filesystem::path& path, const ImportOptions& options,
     }
     if (!scene->mRootNode || scene->mNumMeshes == 0) fail(name, "holds no triangle mesh");
 
-    const UpAxis up = options.up.value_or(defaultUp(ext));
-    const double mmPerUnit = options.mmPerUnit.value_or(defaultMmPerUnit(ext));
+    // Given options first, then what a vsculpt export says of itself, then the format's own.
+    const FileFrame written =
+        ext == ".stl" || ext == ".obj" || ext == ".ply" ? vsculptFrame(path) : FileFrame{};
+    const UpAxis up = options.up.value_or(written.up.value_or(defaultUp(ext)));
+    const double mmPerUnit =
+        options.mmPerUnit.value_or(written.mmPerUnit.value_or(defaultMmPerUnit(ext)));
 
     // Flatten the node hierarchy: every mesh instance in the file's frame, merged.
     Mesh merged;

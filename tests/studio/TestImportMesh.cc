@@ -249,8 +249,13 @@ TEST_F(ImportMesh, UnitsAndUpAxesAsDocumented) {
     EXPECT_NEAR(b.max.z, 30, 1e-6);
     core::ExportOptions asZ;
     asZ.up = core::UpAxis::Z;
-    core::exportMesh(lopBox, lop, asZ);  // an OBJ written Z up ...
-    m = core::importMesh(lop);           // ... read as the OBJ default, Y up: turned
+    core::exportMesh(lopBox, lop, asZ);  // an OBJ written Z up by another program ...
+    {
+        std::string text = test::readFile(lop);  // (without vsculpt's comment naming its frame)
+        ASSERT_EQ(text.rfind("# vsculpt mesh, millimetres, +Z up\n", 0), 0u) << text.substr(0, 80);
+        writeText(lop, text.substr(text.find('\n') + 1));
+    }
+    m = core::importMesh(lop);  // ... read as the OBJ default, Y up: turned
     b = core::meshBounds(m);
     EXPECT_NEAR(b.min.y, -30, 1e-6);
     EXPECT_NEAR(b.max.y, -3, 1e-6);
@@ -263,6 +268,26 @@ TEST_F(ImportMesh, UnitsAndUpAxesAsDocumented) {
     b = core::meshBounds(m);
     EXPECT_NEAR(b.min.z, 3, 1e-6);
     EXPECT_NEAR(b.max.y, 20, 1e-6);
+
+    // vsculpt's own exports in any frame say which in their header or first comment, and come
+    // back where they were without the options (found by QA: an STL in cm came back 10x small).
+    for (const char* ext : {".stl", ".obj", ".ply"}) {
+        SCOPED_TRACE(ext);
+        core::ExportOptions cmY;
+        cmY.up = core::UpAxis::Y;
+        cmY.units = core::LengthUnit::Centimetre;
+        const auto file = dir.path / (std::string("lop-cm") + ext);
+        core::exportMesh(lopBox, file, cmY);
+        b = core::meshBounds(core::importMesh(file));
+        EXPECT_NEAR(b.min.x, 1, 1e-5);
+        EXPECT_NEAR(b.min.y, 2, 1e-5);
+        EXPECT_NEAR(b.min.z, 3, 1e-5);
+        EXPECT_NEAR(b.max.z, 30, 1e-5);
+        ImportOptions given;  // given options still win
+        given.mmPerUnit = 1;
+        b = core::meshBounds(core::importMesh(file, given));
+        EXPECT_NEAR(b.max.z, 3, 1e-5);
+    }
 
     // glTF is metres: a 0.05 m cube exported and read back is 50 mm.
     const Mesh cube = core::boxMesh(Vec3(-25), Vec3(25));

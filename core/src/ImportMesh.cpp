@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -612,6 +613,36 @@ void checkImportFile(const std::filesystem::path& path, const ImportOptions& opt
         if (const std::string problem = plyHeaderProblem(start, ec ? start.size() : bytes);
             !problem.empty())
             throw ImportError(name + ":" + problem);
+    }
+    if (ext == ".stl" && !ec) {
+        // Assimp says only "Failed to determine STL storage representation" of a binary STL
+        // whose size disagrees with its triangle count (found by QA): say which way.
+        std::ifstream in(path, std::ios::binary);
+        std::string start(512, '\0');
+        in.read(start.data(), std::streamsize(start.size()));
+        start.resize(size_t(in.gcount()));
+        // "solid" starts an ASCII STL (and some binary headers): Assimp tells those apart.
+        const bool ascii = start.rfind("solid", 0) == 0;
+        const bool text = std::all_of(
+            start.begin(), start.begin() + std::min<size_t>(start.size(), 84),
+            [](char c) { return std::isprint(uint8_t(c)) || std::isspace(uint8_t(c)); });
+        if (!ascii && text) fail(name, "not an STL file: text that does not start with \"solid\"");
+        if (!ascii) {
+            if (bytes < 84)
+                fail(name, "a binary STL needs an 84-byte header; the file has " +
+                               std::to_string(bytes) + " bytes (truncated?)");
+            const uint32_t count =
+                uint32_t(uint8_t(start[80])) | uint32_t(uint8_t(start[81])) << 8 |
+                uint32_t(uint8_t(start[82])) << 16 | uint32_t(uint8_t(start[83])) << 24;
+            const uint64_t want = 84 + 50 * uint64_t(count);
+            if (bytes != want)
+                fail(name, "binary STL: its header says " + std::to_string(count) +
+                               " triangle(s), " + std::to_string(want) +
+                               " bytes, but the file has " + std::to_string(bytes) +
+                               (bytes < want ? " (truncated: an interrupted copy or download?)"
+                                             : " (bytes after the last triangle: damaged, or "
+                                               "padded by the program that wrote it)"));
+        }
     }
 }
 

@@ -606,6 +606,25 @@ TEST_F(ImportMesh, BadFilesAreRefusedNamingTheFile) {
     EXPECT_NE(importMessage(far, huge).find("beyond 1e6 mm"), std::string::npos)
         << importMessage(far, huge);
     EXPECT_THROW(core::importMesh(dir.path), ImportError);  // a folder (no extension)
+
+    // A binary STL cut short or with bytes after its last triangle: said which (found by QA:
+    // Assimp's "Failed to determine STL storage representation" for both).
+    const std::string whole = test::readFile(far);  // 12 triangles: 84 + 600 bytes
+    ASSERT_EQ(whole.size(), 684u);
+    const auto cut = dir.path / "cut.stl", padded = dir.path / "padded.stl";
+    writeText(cut, whole.substr(0, 354));
+    writeText(padded, whole + std::string(10, '\0'));
+    EXPECT_EQ(importMessage(cut), cut.string() +
+                                      ": binary STL: its header says 12 triangle(s), 684 bytes, "
+                                      "but the file has 354 (truncated: an interrupted copy or "
+                                      "download?)");
+    EXPECT_NE(importMessage(padded).find("but the file has 694 (bytes after the last triangle"),
+              std::string::npos)
+        << importMessage(padded);
+    const auto prose = dir.path / "prose.stl";
+    writeText(prose, "hello, this is a letter and not a mesh at all, which a user named .stl\n");
+    EXPECT_EQ(importMessage(prose),
+              prose.string() + ": not an STL file: text that does not start with \"solid\"");
 }
 
 // The script command and the studio.

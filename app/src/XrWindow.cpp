@@ -78,6 +78,11 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
                 throw std::invalid_argument(clash);
             requireRecordingPath(o.recordPath, "--record");
             core::ensureWritable(o.recordPath);
+            if (!script.commands.empty())
+                // Said now, not found at replay (QA: the replay's hash differed, unexplained).
+                spdlog::warn(
+                    "--record holds the controllers only: the --play script's commands are not "
+                    "in it, so its replay starts without their edits");
         }
     } catch (const std::exception& e) {
         spdlog::error("{}", e.what());

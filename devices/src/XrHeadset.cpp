@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
 #include <utility>
 #include <vector>
@@ -18,6 +19,7 @@
 #include <X11/Xlib.h>
 #include <openxr/openxr.h>
 #include <openxr/openxr_platform.h>
+#include <openxr/openxr_reflection.h>
 
 // OpenXR's structures are filled the C way, `XrFoo foo{XR_TYPE_FOO}`: the type tag set, the
 // rest zero. That is the point, not an oversight.
@@ -58,6 +60,15 @@ std::string resultName(XrInstance instance, XrResult r) {
     char text[XR_MAX_RESULT_STRING_SIZE] = {};
     if (instance != XR_NULL_HANDLE && XR_SUCCEEDED(xrResultToString(instance, r, text)))
         return text;
+    // No instance (the loader found no runtime): the headers' own table names it.
+    switch (r) {
+#define VSCULPT_XR_RESULT_CASE(name, value) \
+    case name:                              \
+        return #name;
+        XR_LIST_ENUM_XrResult(VSCULPT_XR_RESULT_CASE)
+#undef VSCULPT_XR_RESULT_CASE
+            default : break;
+    }
     return "XrResult " + std::to_string(int(r));
 }
 
@@ -188,6 +199,9 @@ struct XrHeadset::Impl {
 
 XrHeadset::XrHeadset(const Options& options) : mImpl(std::make_unique<Impl>()) {
     Impl& m = *mImpl;
+    // The loader prints its own "Error [GENERAL | ...]" lines to stderr before this says, in
+    // one line, what is missing and what to do; XR_LOADER_DEBUG=error (or all) brings them back.
+    ::setenv("XR_LOADER_DEBUG", "none", /*overwrite=*/0);
     uint32_t count = 0;
     XrResult r = xrEnumerateInstanceExtensionProperties(nullptr, 0, &count, nullptr);
     if (XR_FAILED(r))

@@ -667,7 +667,7 @@ TEST(ImportScript, ParseErrorsNameFileAndLine) {
         {"import a.stl colour red", "s.vsc:2: import: unknown option 'colour'"},
         {"import a.stl gap 0", "s.vsc:2: import: gap 0 must be"},
         {"import a.stl up y up z", "s.vsc:2: import: 'up' given twice"},
-        {"import \"a b.stl", "s.vsc:2: import: the quoted path has no closing"},
+        {"import \"a b.stl", "s.vsc:2: a quoted word has no closing"},
     };
     for (const auto& [line, want] : cases) {
         try {

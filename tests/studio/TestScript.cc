@@ -106,6 +106,27 @@ TEST(Script, AByteOrderMarkAtTheStartIsSkipped) {
     }
 }
 
+// The window names pages "Sketch 1", "Sketch 2": a script reaches them quoted (found by QA:
+// `page "Sketch 1"` made a page named '"Sketch' in a group '1"').
+TEST(Script, QuotedWordsMayHoldSpaces) {
+    const Script s =
+        parseScript("page \"Sketch 1\"\npage \"side view\" \"My group\"\npage plain\n", "q.vsc");
+    ASSERT_EQ(s.commands.size(), 3u);
+    EXPECT_EQ(s.commands[0].sketch.name, "Sketch 1");
+    EXPECT_EQ(s.commands[0].sketch.group, "");
+    EXPECT_EQ(s.commands[1].sketch.name, "side view");
+    EXPECT_EQ(s.commands[1].sketch.group, "My group");
+    EXPECT_EQ(s.commands[2].sketch.name, "plain");
+    for (const char* bad : {"page \"Sketch 1\n", "page \"Sketch 1\"x\n"}) {
+        try {
+            parseScript(std::string("mode draft\n") + bad, "q.vsc");
+            ADD_FAILURE() << bad;
+        } catch (const ScriptError& e) {
+            EXPECT_EQ(std::string(e.what()).rfind("q.vsc:2: ", 0), 0u) << e.what();
+        }
+    }
+}
+
 TEST(Script, MissingFileIsAnError) {
     EXPECT_THROW(loadScript("/nonexistent/script.vsc"), ScriptError);
 }

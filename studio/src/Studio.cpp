@@ -103,6 +103,7 @@ void Studio::openWithoutSketchFile(const std::string& why, std::vector<Step> scu
     mPlanes.assign(mDocument.pageCount(), SketchPlane::Front);
     mSurfaceLines.clear();
     mUndoneSurfaceLines.clear();
+    mBuilt.clear();  // built in another timeline
     mDone = std::move(sculptDone);
     mUndone = std::move(sculptUndone);
     mWrittenDone.clear();
@@ -264,6 +265,7 @@ void Studio::loadSketchFile() {
     };
     mSurfaceLines = lines("surface_lines");
     mUndoneSurfaceLines = lines("redo_surface_lines");
+    mBuilt.clear();  // built in another timeline
     mDone = steps("timeline");
     mUndone = steps("redo");
     // The timeline must be what undo and redo can walk: its steps' lines add up to the lines
@@ -300,6 +302,7 @@ void Studio::loadSketchFile() {
     mWrittenUndone = mUndone;
     const ReconciledTimeline t = reconciledTimeline(
         mDone, mUndone, mSession->history().done().size(), mSession->history().undone().size());
+    mBuilt.clear();  // built in another timeline
     mDone = t.done;
     mUndone = t.undone;
     if (!t.undoneSurfaceLinesKept) mUndoneSurfaceLines.clear();
@@ -318,6 +321,9 @@ void Studio::setPlane(size_t pageIndex, SketchPlane plane) {
 }
 
 void Studio::push(const Step& step) {
+    // What could have been redone is gone, and the solids built in it.
+    while (!mBuilt.empty() && mBuilt.back().timelineIndex >= mDone.size())
+        mBuilt.pop_back();
     mDone.push_back(step);
     mUndone.clear();
     mUndoneSurfaceLines.clear();
@@ -559,7 +565,6 @@ bool Studio::undo() {
     }
     mDone.pop_back();
     mUndone.push_back(s);
-    if (mLastSolid && mLastSolid->timelineIndex >= mDone.size()) mLastSolid.reset();
     if (s.sculpt())
         writeSketchFileUnlessJournalTellsIt();
     else
@@ -664,7 +669,7 @@ int Studio::buildSolid(sketch::SolidConstruction construction, int level) {
     std::vector<PolylineRef> sources;
     const sketch::SketchSolidInput input = sketchSolidInput(
         construction, mDocument, mDocument.currentIndex(), mPlanes,
-        mLastBuilt ? std::optional<sketch::PolyMesh>(mLastBuilt->polyMesh) : std::nullopt,
+        lastSolid() ? std::optional<sketch::PolyMesh>(lastSolid()->polyMesh) : std::nullopt,
         &sources);
     sketch::SketchSolid built;
     try {
@@ -681,25 +686,32 @@ int Studio::buildSolid(sketch::SolidConstruction construction, int level) {
     // body's) is another solid.
     const bool changesLast = construction == C::Cut || construction == C::Extrude;
     bool replace = false;
-    if (mLastSolid && mLastSolid->timelineIndex < mDone.size() &&
-        mDone[mLastSolid->timelineIndex].sculpt() &&
-        (changesLast ||
-         (construction == mLastSolid->construction && sources == mLastSolid->sources))) {
+    const BuiltSolid* last = currentSolid();
+    if (last && mDone[last->timelineIndex].sculpt() &&
+        (changesLast || (construction == last->construction && sources == last->sources))) {
         replace = true;
-        for (size_t i = mLastSolid->timelineIndex + 1; i < mDone.size(); ++i)
+        for (size_t i = last->timelineIndex + 1; i < mDone.size(); ++i)
             if (mDone[i].sculpt()) replace = false;
     }
+    // A cut that cannot replace the solid it cuts (sculpted on since, or no solid built this
+    // session) would add its kept part inside the clay there: a step that changes nothing
+    // (found by QA). Refused, saying why.
+    if (construction == C::Cut && !replace)
+        throw std::invalid_argument(
+            "cut: it changes the last solid built while that is still the last sculpt step; the "
+            "clay has been sculpted since (or no solid was built in this session): undo back to "
+            "the solid, or carve with the tool");
     const size_t before = mSession->history().done().size();
     const int used =
         sculpt([&](Session& s) { return s.addSolid(toMesh(built.triangles), level, replace); });
     if (mSession->history().done().size() > before) {
         // A cut or an extrusion changes the last solid: built again from its own lines, that
         // solid is still the one regenerated.
-        mLastSolid =
-            changesLast && mLastSolid
-                ? BuiltSolid{mLastSolid->construction, mLastSolid->sources, mDone.size() - 1}
-                : BuiltSolid{construction, std::move(sources), mDone.size() - 1};
-        mLastBuilt = std::move(built);
+        BuiltSolid b = changesLast && last ? BuiltSolid{last->construction, last->sources}
+                                           : BuiltSolid{construction, std::move(sources)};
+        b.timelineIndex = mDone.size() - 1;
+        b.solid = std::make_shared<const sketch::SketchSolid>(std::move(built));
+        mBuilt.push_back(std::move(b));
     }
     return used;
 }

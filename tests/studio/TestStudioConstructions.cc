@@ -169,6 +169,30 @@ TEST(StudioConstructions, CutStrokeTakesOffOneSide) {
     EXPECT_LT(core::meshVolume(mesh), 0.5 * volume);
     studio.undo();
     EXPECT_EQ(core::canonicalMeshHash(session.view().mesh()), whole);
+
+    // Undone, the cut gives the uncut solid back to the next one: cut again at x = -4, the
+    // part right of it is kept (not what was right of x = 8).
+    run(studio, "select 1\ndelete\n" +
+                    pen([](double t) { return glm::dvec2(-4, -30 + 60 * t); }, 20) +
+                    "role cut last\nsolid cut\n");
+    EXPECT_NEAR(core::meshBounds(session.wholeMesh()).min.x, -4, h);
+    studio.undo();
+    EXPECT_EQ(core::canonicalMeshHash(session.view().mesh()), whole);
+
+    // After a stroke on the solid the cut cannot replace it: refused, not a step that adds
+    // the kept part inside the uncut clay and changes nothing (found by QA).
+    studio.stroke({Vec3(-10, 0, 25), Vec3(10, 0, 25)}, false);
+    const size_t steps = studio.stepCount();
+    const uint64_t sculpted = core::canonicalMeshHash(session.view().mesh());
+    try {
+        run(studio, "solid cut\n");
+        ADD_FAILURE() << "a cut of sculpted clay was made";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("cut: it changes the last solid built", 0), 0u)
+            << e.what();
+    }
+    EXPECT_EQ(studio.stepCount(), steps);
+    EXPECT_EQ(core::canonicalMeshHash(session.view().mesh()), sculpted);
 }
 
 TEST(StudioConstructions, ExtrudeRaisesAProtrusion) {

@@ -160,7 +160,12 @@ class Studio {
     /// the previous solid back. @param level 0: from its size. Returns the level used.
     int buildSolid(sketch::SolidConstruction construction, int level = 0);
     /// The last solid built (what cut and extrude change), if any.
-    const std::optional<sketch::SketchSolid>& lastSolid() const { return mLastBuilt; }
+    /// The solid a cut or an extrusion would change: the last one built in this session and not
+    /// undone (null when none).
+    const sketch::SketchSolid* lastSolid() const {
+        const BuiltSolid* b = currentSolid();
+        return b ? b->solid.get() : nullptr;
+    }
 
     bool undo();
     bool redo();
@@ -266,10 +271,18 @@ class Studio {
     struct BuiltSolid {
         sketch::SolidConstruction construction;
         std::vector<PolylineRef> sources;  // the polylines it was built from
-        size_t timelineIndex = 0;
+        size_t timelineIndex = 0;          // its step in mDone (or mUndone, when undone)
+        std::shared_ptr<const sketch::SketchSolid> solid;
     };
-    std::optional<BuiltSolid> mLastSolid;
-    std::optional<sketch::SketchSolid> mLastBuilt;
+    // Every solid built this session, in timeline order; those at or past mDone.size() are
+    // undone (a redo brings them back, a new step drops them), so undoing a cut gives the
+    // uncut solid back to the next cut.
+    std::vector<BuiltSolid> mBuilt;
+    const BuiltSolid* currentSolid() const {
+        for (auto it = mBuilt.rbegin(); it != mBuilt.rend(); ++it)
+            if (it->timelineIndex < mDone.size()) return &*it;
+        return nullptr;
+    }
     std::vector<std::vector<core::Vec3>> mSurfaceLines, mUndoneSurfaceLines;
     std::optional<std::filesystem::path> mFile;
     SurfaceProjector mProjector;

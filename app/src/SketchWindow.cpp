@@ -265,9 +265,19 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
                     spdlog::info("{}", message);
                 });
             } else if (action == "undo") {
-                act([&] { studio.undo(); });
+                // The status line says what happened now, not what the undone step said
+                // (found by QA: "inflate" stayed after U).
+                act([&] {
+                    const size_t steps = studio.stepCount();
+                    studio.undo();
+                    message = studio.stepCount() < steps ? "undone" : "nothing to undo";
+                });
             } else if (action == "redo") {
-                act([&] { studio.redo(); });
+                act([&] {
+                    const size_t steps = studio.stepCount();
+                    studio.redo();
+                    message = studio.stepCount() > steps ? "redone" : "nothing to redo";
+                });
             } else if (action == "mode") {
                 page().setMode(page().mode() == studio::SketchMode::Draft
                                    ? studio::SketchMode::Cleanup

@@ -230,9 +230,13 @@ TEST(SketchWindow, MouseDrawingAndKeysMakeASolid) {
     o.injectedEvents.push_back({f, E{E::Kind::Key, GLFW_KEY_U, true, 0, 0}});
     o.injectedEvents.push_back({f + 1, E{E::Kind::Key, GLFW_KEY_U, true, 0, 0}});
     o.frames = int(f + 4);
+    std::string said;
+    o.messageReport = &said;
     std::ostringstream out2, err2;
     ASSERT_EQ(app::runSketchWindow(o, out2, err2), 0) << err2.str();
     EXPECT_NE(err2.str().find("1 page(s), 2 step(s)"), std::string::npos) << err2.str();
+    EXPECT_EQ(said, "undone");  // not what the undone step said (found by QA: "inflate")
+    o.messageReport = nullptr;
 
     // A loop of a quarter the size inflates to a solid wholly inside the sphere: no step, and
     // the window says why nothing changed.

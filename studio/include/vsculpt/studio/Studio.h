@@ -167,6 +167,8 @@ class Studio {
         return b ? b->solid.get() : nullptr;
     }
 
+    /// One step of the timeline back or forward (nothing when there is none: stepCount() says).
+    /// True when it was a sculpt step (the mesh changes), false for a sketch step or none.
     bool undo();
     bool redo();
     size_t stepCount() const { return mDone.size(); }

@@ -17,17 +17,23 @@ namespace {
 
 class LineParser {
   public:
-    LineParser(const std::string& source, int line) : mSource(source), mLine(line) {}
-    [[noreturn]] void fail(const std::string& why) const {
-        // What the line said is quoted in `why`: never raw bytes on the user's terminal.
-        throw ScriptError(mSource + ":" + std::to_string(mLine) + ": " +
-                          core::printableText(why, 240));
+    /// `parts`: a command continued over lines ('\\'), each physical line with its number, so
+    /// a bad word is named on its own line (found by QA: line 4 for a word on line 6).
+    LineParser(const std::string& source, int line,
+               const std::vector<std::pair<int, std::string>>* parts = nullptr)
+        : mSource(source), mLine(line), mParts(parts) {}
+    [[noreturn]] void fail(const std::string& why) const { failOn(mLine, why); }
+    /// The same, on the first physical line holding `word` as a word of its own.
+    [[noreturn]] void failAt(const std::string& word, const std::string& why) const {
+        failOn(lineOf(word), why);
     }
-    double number(const std::string& w, const char* what) const {
+    double number(const std::string& w, const char* what,
+                  const std::string* whole = nullptr) const {
         double v = 0;
         const auto [p, ec] = std::from_chars(w.data(), w.data() + w.size(), v);
         if (ec != std::errc() || p != w.data() + w.size() || !std::isfinite(v))
-            fail(std::string("expected a number for ") + what + ", got '" + w + "'");
+            failAt(whole ? *whole : w,
+                   std::string("expected a number for ") + what + ", got '" + w + "'");
         return v;
     }
     int integer(const std::string& w, const char* what) const {
@@ -49,21 +55,37 @@ class LineParser {
         size_t start = 0;
         while (true) {
             const size_t comma = w.find(',', start);
-            v.push_back(number(w.substr(start, comma - start), what));
+            v.push_back(number(w.substr(start, comma - start), what, &w));
             if (comma == std::string::npos) break;
             start = comma + 1;
         }
         if (v.size() < lo || v.size() > hi)
-            fail(std::string("expected ") + what + " as " +
-                 (hi == 2 ? "X,Y" : "X,Y[,PRESSURE[,TIME]]") + ", got '" + w + "'");
+            failAt(w, std::string("expected ") + what + " as " +
+                          (hi == 2 ? "X,Y" : "X,Y[,PRESSURE[,TIME]]") + ", got '" + w + "'");
         for (double x : v)
-            if (std::abs(x) > 1e6) fail(std::string(what) + " '" + w + "' lies beyond 1e6");
+            if (std::abs(x) > 1e6) failAt(w, std::string(what) + " '" + w + "' lies beyond 1e6");
         return v;
     }
 
   private:
+    [[noreturn]] void failOn(int line, const std::string& why) const {
+        // What the line said is quoted in `why`: never raw bytes on the user's terminal.
+        throw ScriptError(mSource + ":" + std::to_string(line) + ": " +
+                          core::printableText(why, 240));
+    }
+    int lineOf(const std::string& word) const {
+        if (!mParts) return mLine;
+        for (const auto& [line, text] : *mParts) {
+            std::istringstream in(text);
+            for (std::string w; in >> w;)
+                if (w == word) return line;
+        }
+        return mLine;
+    }
+
     const std::string& mSource;
     int mLine;
+    const std::vector<std::pair<int, std::string>>* mParts;
 };
 
 // The line's words, split at spaces and tabs; "a quoted word" may hold spaces (a page named
@@ -366,8 +388,10 @@ Script parseScript(std::string_view text, const std::string& source) {
     // A command may continue over following lines that end the previous one with '\'.
     std::string pending;
     int pendingLine = 0;
-    auto handle = [&](const std::string& full, int startLine) {
-        LineParser p(source, startLine);
+    std::vector<std::pair<int, std::string>> parts;  // the pending command's physical lines
+    auto handle = [&](const std::string& full, int startLine,
+                      const std::vector<std::pair<int, std::string>>* lines = nullptr) {
+        LineParser p(source, startLine, lines);
         const std::vector<std::string> w = words(full, p);
         if (w.empty()) return;
         ScriptCommand c;
@@ -480,9 +504,11 @@ Script parseScript(std::string_view text, const std::string& source) {
         }
         if (pending.empty()) pendingLine = lineNo;
         pending += ' ' + line;
+        parts.emplace_back(lineNo, line);
         if (!continues) {
-            handle(pending, pendingLine);
+            handle(pending, pendingLine, &parts);
             pending.clear();
+            parts.clear();
         }
     }
     if (!pending.empty())

@@ -78,6 +78,12 @@ TEST(Script, BadLinesNameTheirLine) {
         {"undo now\n", "t.vsc:1: 'undo' takes no arguments"},
         {"space up\n", "t.vsc:1: unknown space 'up'"},
         {"tool add\nstroke 0 0 0 \\\n", "t.vsc:2: the command continued with '\\' never ends"},
+        // A bad word in a command continued over lines is named on its own line.
+        {"tool add\nstroke 0 0 0 \\\n  1 1 1 \\\n  2 x 2\n",
+         "t.vsc:4: expected a number for a stroke point, got 'x'"},
+        {"page p\npen 0,0 1,1 \\\n  2,2 nan,5 \\\n  6,6\n",
+         "t.vsc:3: expected a number for a pen sample, got 'nan'"},
+        {"page p\npen 0,0 \\\n 1,1 \\\n 2,2,3,4,5\n", "t.vsc:4: expected a pen sample as"},
     };
     for (const Bad& b : cases) {
         try {

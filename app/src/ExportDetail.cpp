@@ -101,7 +101,7 @@ std::string exportDetailWarning(const Session& session, double spacing) {
     char text[320];
     std::snprintf(text, sizeof text,
                   "the export's grid spacing, %.3g mm, is coarser than the sculpture's finest "
-                  "detail (size %d, drawn at zoom %d at %.3g mm), which it loses: "
+                  "detail (clay of size %d, shown in full from zoom %d at %.3g mm), which it loses: "
                   "--export-spacing %.3g keeps %s",
                   spacing, d.finestSize, d.zoom, d.detailMm, suggest, d.capped ? capNote : "it");
     return text;

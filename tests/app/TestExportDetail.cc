@@ -50,7 +50,7 @@ TEST(ExportDetail, NamesTheFinestSizeItsZoomAndASpacingThatKeepsIt) {
     s.stroke({Vec3(-5, 0, 25), Vec3(5, 0, 25)}, false);
     const double zoom3 = spacingAt(s, 3);
     const std::string said = app::exportDetailWarning(s, zoom1);
-    EXPECT_NE(said.find("size 3, drawn at zoom 3"), std::string::npos) << said;
+    EXPECT_NE(said.find("clay of size 3, shown in full from zoom 3"), std::string::npos) << said;
     // The spacing it names keeps the detail (what the sentence promises) and is zoom 3's
     // within the three digits it prints.
     const double named = namedSpacing(said);
@@ -77,7 +77,7 @@ TEST(ExportDetail, ASculptureTooLargeForItsFinestZoomGetsTheFinestGridThatFits) 
     s.setSize(1);
     s.stroke({Vec3(-1, 0, 120), Vec3(1, 0, 120)}, false);
     const std::string said = app::exportDetailWarning(s, spacingAt(s, 1));
-    EXPECT_NE(said.find("size 1, drawn at zoom 5"), std::string::npos) << said;
+    EXPECT_NE(said.find("clay of size 1, shown in full from zoom 5"), std::string::npos) << said;
     EXPECT_NE(said.find("as much of it as the grid's 1024 cells per axis allow"), std::string::npos)
         << said;
     // The spacing it names fits Session::wholeMesh's 1 024 cells per axis (extent / spacing

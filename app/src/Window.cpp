@@ -123,7 +123,11 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
     glm::dmat4 worldFromObject = worldFromObjectMatrix();
     double cursorX = o.width / 2.0, cursorY = o.height / 2.0, lastX = cursorX, lastY = cursorY;
     bool rotating = false, moving = false;
-    double depthOffset = 0;  // mm along the pointer ray, from the scroll wheel
+    // How far the scroll wheel pushed the tool along the pointer ray, in tool diameters: the
+    // same share of any size, so a depth set for size 7 does not bury a size-5 tool out of
+    // sight (found by QA: a hidden cavity); from a diameter out to one in (the tool's top at
+    // the surface).
+    double depthInDiameters = 0;
     size_t commandIndex = 0, frame = 0;
     double frameMs = 0;
     // For the closing summary: frame wall times and how far the mesh trailed each edit, in
@@ -291,7 +295,8 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
                 }
             }
             if (ev.kind == K::Scroll && !overUi())
-                depthOffset += ev.y * cfg.interaction.depthStepOverDiameter * level.diameterMm;
+                depthInDiameters = std::clamp(
+                    depthInDiameters + ev.y * cfg.interaction.depthStepOverDiameter, -1.0, 1.0);
         }
         if (switched) continue;
         // The UI: drawn into its texture now, composited into each eye by the draw below;
@@ -344,7 +349,8 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         const Vec3 dObj = glm::normalize(Vec3(objectFromWorld * glm::dvec4(dir, 0)));
         const Vec3 downObj = glm::normalize(Vec3(objectFromWorld * glm::dvec4(0, 0, -1, 0)));
         const double toolRadius = 0.5 * level.diameterMm;
-        ToolPick pick = pickTool(session, oObj, dObj, toolRadius, depthOffset, downObj);
+        ToolPick pick =
+            pickTool(session, oObj, dObj, toolRadius, depthInDiameters * level.diameterMm, downObj);
         if (!overUi()) lastSculptPoint = pick.surfaceHit ? *pick.surfaceHit : pick.toolCentre;
         if (penWorld) {
             toolWorld = *penWorld;  // DeviceInput already moved the tool with every sample

@@ -374,6 +374,41 @@ TEST(WindowUi, AWindowClosedBeforeItsScriptEndedSaysWhereItStopped) {
     fs::remove(script);
 }
 
+// Found by QA: the scroll depth was kept in mm, so three notches set at size 7 (25 mm) buried
+// a size-5 tool out of sight, and its carve made a hidden cavity inside the sphere. The depth
+// is a share of the tool: the same carve now opens a groove in the surface.
+TEST(WindowUi, TheScrollDepthFollowsTheToolSize) {
+    const fs::path dir =
+        fs::temp_directory_path() / ("vsculpt-depth-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    app::WindowOptions o = scratchWindow(30);
+    o.noProject = false;
+    o.projectDir = dir.string();
+    app::WindowOptions::Report report;
+    o.report = &report;
+    o.onFrame = [&](size_t frame, const app::UiState&, std::vector<InputEvent>& inject) {
+        if (frame == 2) inject.push_back(cursor(480, 330));
+        if (frame >= 3 && frame <= 5) inject.push_back({InputEvent::Kind::Scroll, 0, false, 0, 1});
+        if (frame == 6) inject.push_back(key(GLFW_KEY_5, true));
+        if (frame == 7) inject.push_back(key(GLFW_KEY_TAB, true));  // carve
+        if (frame == 9) inject.push_back(leftButton(true));
+        if (frame >= 10 && frame <= 16) inject.push_back(cursor(480 + 6.0 * (frame - 9), 330));
+        if (frame == 18) inject.push_back(leftButton(false));
+    };
+    std::ostringstream out, err;
+    ASSERT_EQ(app::runWindow(o, out, err), 0) << err.str();
+    EXPECT_EQ(report.tool, studio::ToolKind::Carve);
+    EXPECT_EQ(report.size, 5);
+    EXPECT_EQ(report.steps, 1u);
+    auto studio = studio::Studio::openProject(dir, core::SculptConfig{});
+    const core::Mesh mesh = studio->session().wholeMesh();
+    EXPECT_EQ(core::analyzeTopology(mesh).components, 1u) << "the carve left a hidden cavity";
+    EXPECT_LT(core::meshVolume(mesh), 4.0 / 3 * M_PI * 40 * 40 * 40 * 0.999)
+        << "the carve removed nothing from the surface";
+    studio.reset();
+    fs::remove_all(dir);
+}
+
 TEST(WindowUi, TypingInTheExportDialogRunsNoBindingsAndErrorsStayInTheDialog) {
     const fs::path dir = std::filesystem::temp_directory_path() /
                          ("vsculpt-ui-export-" + std::to_string(::getpid()));

@@ -366,12 +366,24 @@ std::string Rig::saveAs(const std::filesystem::path& dir) {
             "this session has no project (started without one): "
             "nothing to save as");
     }
-    const core::RigidTransform pose = mStudio->session().objectPose();
+    // "Continuing there": with the tool as it was, not the defaults (found by QA: the next
+    // stroke came out unmirrored at another size).
+    const Session& was = mStudio->session();
+    const core::RigidTransform pose = was.objectPose();
+    const ToolKind tool = was.tool();
+    const core::MirrorAxis mirror = was.mirror();
+    const int size = was.size(), zoom = was.zoom();
+    const core::Aabb region = was.region().box();
+    const core::Vec3 centre = 0.5 * (region.min + region.max);
     mDevices.reset();
     mInteraction.reset();
     mStudio.reset();  // unlocks the old project
     openStudio(dir);
     mStudio->setObjectPose(pose);
+    if (zoom > 1) mStudio->setZoom(zoom, centre);
+    mStudio->setSize(size);
+    mStudio->setTool(tool);
+    mStudio->setMirror(mirror);
     rebuildInput();
     rememberLastProject(dir);
     return "saved as " + dir.string() + " (continuing there)";

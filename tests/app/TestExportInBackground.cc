@@ -210,3 +210,25 @@ TEST_F(ExportInBackground, AnImportUnderWayLandsBeforeTheProjectIsSavedAsOrLeft)
     auto reopened = studio::Studio::openProject(copy, smallSphere(), studio::ProjectMode::ReadOnly);
     EXPECT_EQ(reopened->stepCount(), 2u);
 }
+
+// "Saved as ... (continuing there)": with the tool, mirror, size and zoom as they were (found
+// by QA: the defaults came back, and the next stroke was not mirrored).
+TEST_F(ExportInBackground, SaveAsContinuesWithTheToolAsItWas) {
+    app::RigOptions options;
+    options.project = app::ProjectChoice::Given;
+    options.projectDir = dir / "project";
+    app::Rig rig(smallSphere(), options);
+    rig.studio().setZoom(2, Vec3(0, 0, 20));
+    rig.studio().setSize(4);
+    rig.studio().setTool(studio::ToolKind::Smooth);
+    rig.studio().setMirror(core::MirrorAxis::X);
+    const core::GridRegion region = rig.session().region();
+    rig.saveAs(dir / "copy");
+    const studio::Session& s = rig.session();
+    EXPECT_EQ(*s.projectDir(), dir / "copy");
+    EXPECT_EQ(s.tool(), studio::ToolKind::Smooth);
+    EXPECT_EQ(s.mirror(), core::MirrorAxis::X);
+    EXPECT_EQ(s.size(), 4);
+    EXPECT_EQ(s.zoom(), 2);
+    EXPECT_EQ(s.region().originCell, region.originCell);
+}

@@ -365,7 +365,9 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
             // Keys typed into a text field (or with a dialog open) are the UI's only.
             if (ev.kind == K::Key && ev.pressed && !(uiLayer && uiLayer->wantsKeyboard())) {
                 auto bound = actionOfKey.find(ev.code);
-                if (bound != actionOfKey.end()) applyAction(bound->second);
+                if (bound != actionOfKey.end() &&
+                    !(bound->second == "quit" && closeOpenPanel(uiState)))
+                    applyAction(bound->second);
             }
             if (ev.kind == K::MouseButton && ev.code >= 0 && ev.code < 3) {
                 // A press on the panel is the panel's (and so is its release): it never draws.

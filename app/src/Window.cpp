@@ -244,7 +244,8 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
             if (ev.kind == K::Close) running = false;
             // Keys typed into a text field (or with a dialog open) are the UI's only.
             if (ev.kind == K::Key && ev.pressed && actionOfKey.count(ev.code) &&
-                !(uiLayer && uiLayer->wantsKeyboard()))
+                !(uiLayer && uiLayer->wantsKeyboard()) &&
+                !(actionOfKey[ev.code] == "quit" && closeOpenPanel(uiState)))
                 doAction(actionOfKey[ev.code]);
             if (ev.kind == K::MouseButton) {
                 // A press on the UI is the UI's (and so is its release): it never sculpts.

@@ -542,6 +542,15 @@ std::filesystem::path savePreferences(const core::SculptConfig& cfg) {
     return path;
 }
 
+bool closeOpenPanel(UiState& state) {
+    for (bool* open : {&state.help, &state.recent, &state.preferences})
+        if (*open) {
+            *open = false;
+            return true;
+        }
+    return false;
+}
+
 bool applySharedUiAction(const UiAction& a, Rig& rig, UiState& state, const core::SculptConfig& cfg,
                          std::string& message, bool& switched) {
     const std::string& n = a.name;

@@ -409,6 +409,28 @@ TEST(WindowUi, TheScrollDepthFollowsTheToolSize) {
     fs::remove_all(dir);
 }
 
+// Esc with a panel open closes the panel, not the window (found by QA: Esc in the preferences
+// closed the window and lost their unsaved edits); with none open it quits as bound.
+TEST(WindowUi, EscClosesAnOpenPanelFirst) {
+    app::WindowOptions o = scratchWindow(40);
+    app::WindowOptions::Report report;
+    o.report = &report;
+    size_t lastFrame = 0;
+    bool helpShown = false;
+    o.onFrame = [&](size_t frame, const app::UiState& ui, std::vector<InputEvent>& inject) {
+        lastFrame = frame;
+        if (frame == 2) inject.push_back(key(GLFW_KEY_F1, true));
+        if (frame == 4) helpShown = ui.help;
+        if (frame == 5) inject.push_back(key(GLFW_KEY_ESCAPE, true));
+        if (frame == 10) inject.push_back(key(GLFW_KEY_ESCAPE, true));
+    };
+    std::ostringstream out, err;
+    EXPECT_EQ(app::runWindow(o, out, err), 0) << err.str();
+    EXPECT_TRUE(helpShown);
+    EXPECT_FALSE(report.ui.help);
+    EXPECT_EQ(lastFrame, 10u) << "the first Esc closed the window, or the second did not";
+}
+
 TEST(WindowUi, TypingInTheExportDialogRunsNoBindingsAndErrorsStayInTheDialog) {
     const fs::path dir = std::filesystem::temp_directory_path() /
                          ("vsculpt-ui-export-" + std::to_string(::getpid()));

@@ -143,6 +143,12 @@ std::vector<UiAction> sketchUi(UiState& state, const SketchUiView& view, core::S
 std::vector<std::pair<std::string, std::string>> helpLines(
     const std::map<std::string, std::string>& bindings, bool sketch);
 
+/// Esc (the "quit" binding) with a panel open closes the panel, as it cancels a dialog, rather
+/// than the window (found by QA: Esc in the preferences lost their unsaved edits with the
+/// window). Closes the help overlay, the recent projects or the preferences, whichever is
+/// open, and returns true; false when none is.
+bool closeOpenPanel(UiState& state);
+
 /// Applies a UI action both windows share (save, save_as, export, open_project,
 /// new_project, save_preferences) on `rig`. Returns true when it was one of them, with the
 /// message for the user in `message`; a failed dialog action keeps the dialog open with the

@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -163,7 +164,7 @@ void dialog(UiState& state, std::vector<UiAction>& actions) {
     }
     rememberWindow(state, "dialog");
     ImGui::TextUnformatted(
-        exportDialog   ? "Export the sculpture to a file (.glb .gltf .obj .stl .ply .vdb .dxf)"
+        exportDialog   ? "Export the sculpture to a file (.glb .obj .stl .ply .vdb .dxf)"
         : importDialog ? "Add a mesh file as clay (.obj .stl .ply .gltf .glb; docs/import.md)"
                        : "Save the project as a new folder (new or empty) and continue there");
     // The field has the keyboard with its text selected when the dialog opens and after an
@@ -542,6 +543,23 @@ std::filesystem::path savePreferences(const core::SculptConfig& cfg) {
     return path;
 }
 
+namespace {
+
+// A path as a user types it in a dialog: "~/out.obj" is in the home folder (not a folder named
+// "~" in the current one, found by QA), and a relative one is made absolute, so the message
+// says where the file went.
+std::filesystem::path typedPath(const std::filesystem::path& typed) {
+    std::filesystem::path p = typed;
+    if (const std::string t = typed.string(); t == "~" || t.rfind("~/", 0) == 0) {
+        const char* home = std::getenv("HOME");
+        if (!home || !*home) throw std::invalid_argument(t + ": $HOME is not set");
+        p = std::filesystem::path(home) / (t.size() > 2 ? t.substr(2) : "");
+    }
+    return std::filesystem::absolute(p).lexically_normal();
+}
+
+}  // namespace
+
 bool closeOpenPanel(UiState& state) {
     for (bool* open : {&state.help, &state.recent, &state.preferences})
         if (*open) {
@@ -581,25 +599,26 @@ bool applySharedUiAction(const UiAction& a, Rig& rig, UiState& state, const core
         return false;
     try {
         if (fromDialog && a.path.empty()) throw std::invalid_argument("type a path first");
+        const std::filesystem::path path = fromDialog ? typedPath(a.path) : a.path;
         if (n == "save") {
             message = rig.save();
         } else if (n == "save_as") {
-            message = rig.saveAs(a.path);
+            message = rig.saveAs(path);
             switched = true;
         } else if (n == "export") {
-            message = rig.exportTo(a.path, a.exportOptions);
+            message = rig.exportTo(path, a.exportOptions);
         } else if (n == "import") {
             // Read and placed beside the frame (a scan can take seconds); the frame's poll
             // (Rig::pollBackgroundWork) says when it is in.
-            rig.studio().importMeshInBackground(a.path, a.importOptions, a.importLevel);
-            spdlog::info("importing {}", a.path.string());
+            rig.studio().importMeshInBackground(path, a.importOptions, a.importLevel);
+            spdlog::info("importing {}", path.string());
             message.clear();  // the panel's import line (UiState::importing) says it
-            state.lastImportPath = a.path.string();
+            state.lastImportPath = path.string();
         } else if (n == "new_project") {
             message = rig.newProject();
             switched = true;
         } else if (n == "open_project") {
-            message = rig.openProject(a.path);
+            message = rig.openProject(path);
             switched = true;
             state.recent = false;
         } else {

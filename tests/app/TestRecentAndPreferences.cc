@@ -138,6 +138,27 @@ TEST(RecentProjects, ALastProjectNoLongerThereIsNamedWhenANewOneStarts) {
     fs::remove_all(root);
 }
 
+// "~/out.obj" typed in the export dialog is in the home folder, not in a folder named "~" in
+// the current one (found by QA), and the message says the absolute path.
+TEST(RecentProjects, APathTypedInADialogExpandsTheHomeFolder) {
+    const fs::path root = freshDir("vsculpt-tilde");
+    ScopedEnv home("HOME", root);
+    ScopedEnv data("XDG_DATA_HOME", root / "data");
+    core::SculptConfig cfg;
+    cfg.polygonizer.gridN = 16;
+    app::Rig rig(cfg, app::windowRigOptions("", false, false));
+    app::UiState state;
+    std::string message;
+    bool switched = false;
+    ASSERT_TRUE(
+        app::applySharedUiAction({"export", "~/out.stl"}, rig, state, cfg, message, switched));
+    if (auto done = rig.pollBackgroundWork(true)) message = *done;
+    EXPECT_TRUE(fs::exists(root / "out.stl")) << message;
+    EXPECT_FALSE(fs::exists(fs::current_path() / "~"));
+    EXPECT_NE(message.find((root / "out.stl").string()), std::string::npos) << message;
+    fs::remove_all(root);
+}
+
 // Opening a recent project switches the rig's studio only once the new one is open and
 // locked: a folder without a project, or one open elsewhere, leaves the session as it was.
 TEST(RecentProjects, OpeningOneSwitchesSafely) {

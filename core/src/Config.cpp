@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cctype>
 #include <cerrno>
 #include <climits>
 #include <cmath>
@@ -519,15 +520,19 @@ SculptConfig parseConfigText(std::string_view jsonText, const std::string& sourc
             }
             if (!it->is_string() || it->get<std::string>().empty())
                 inter.fail(key, "expected a key name such as \"TAB\" or \"Z\"");
-            const std::string keyName = it->get<std::string>();
+            // "z" is "Z": GLFW's names are upper case, people type either (found by QA: "did
+            // you mean '0'?" for "z").
+            std::string keyName = it->get<std::string>();
+            std::transform(keyName.begin(), keyName.end(), keyName.begin(),
+                           [](unsigned char c) { return char(std::toupper(c)); });
             if (std::find(keyNames().begin(), keyNames().end(), keyName) == keyNames().end()) {
                 const std::string near = nearestName(keyName, keyNames());
-                inter.fail(key, "unknown key name '" + printableText(keyName) +
+                inter.fail(key, "unknown key name '" + printableText(it->get<std::string>()) +
                                     "' (GLFW's names without GLFW_KEY_: A-Z, 0-9, F1-F25, "
                                     "KP_0-KP_9, TAB, SPACE, HOME, ..." +
                                     (near.empty() ? "" : "; did you mean '" + near + "'?") + ")");
             }
-            out[it.key()] = it->get<std::string>();
+            out[it.key()] = keyName;
         }
     };
     bindings("bindings", bindableActions(), "docs/window.md", cfg.interaction.bindings);

@@ -134,6 +134,15 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
                 cfg = loadConfig(o.configPath.empty() ? defaultConfigPath()
                                                       : std::filesystem::path(o.configPath));
         } else {
+            // Named as a recording but without its header (empty, or another file renamed):
+            // not silently an empty script (found by QA: a 0-byte .vsrec "played").
+            std::string ext = std::filesystem::path(o.script).extension().string();
+            std::transform(ext.begin(), ext.end(), ext.begin(),
+                           [](unsigned char c) { return char(std::tolower(c)); });
+            if (ext == ".vsrec")
+                throw std::invalid_argument(
+                    o.script +
+                    ": not a device recording (it does not start with \"vsculpt-recording\")");
             script = loadScript(o.script);
             cfg = loadConfig(o.configPath.empty() ? defaultConfigPath()
                                                   : std::filesystem::path(o.configPath));

@@ -7,6 +7,7 @@
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/app/SketchInkList.h"
 #include "vsculpt/core/WriteFileAtomically.h"
+#include "vsculpt/devices/Recording.h"
 #include "vsculpt/render/ProjectStroke.h"
 #include "vsculpt/render/SketchCanvas.h"
 #include "vsculpt/render/UiLayer.h"
@@ -72,6 +73,11 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
     try {
         cfg = core::loadConfig(o.configPath.empty() ? core::defaultConfigPath()
                                                     : std::filesystem::path(o.configPath));
+        // A recording given to --play: said what to do, not "unknown command" (QA).
+        if (!o.playScript.empty() && devices::isRecordingFile(o.playScript))
+            throw std::invalid_argument(o.playScript +
+                                        ": a device recording: replay it with `vsculpt play " +
+                                        o.playScript + "` (--play takes a playback script)");
         if (!o.playScript.empty()) script = loadScript(o.playScript);
     } catch (const std::exception& e) {
         spdlog::error("{}", e.what());

@@ -5,12 +5,16 @@
 #include <charconv>
 #include <cstdio>
 #include <sstream>
+#include <string_view>
 
 namespace vsculpt::devices {
 
 namespace {
 
 constexpr const char* kMagic = "vsculpt-recording 1";
+// An editor that saved a recording may have put a UTF-8 byte order mark first (found by QA:
+// the recording was then read as a script, "unknown command 'vsculpt-recording'").
+constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
 
 const char* kindName(DeviceEventKind k) {
     return toString(k);
@@ -98,7 +102,11 @@ void RecordingWriter::flush() {
     if (!mOut) throw RecordingError(mPath.string() + ": write error (disk full?)");
 }
 
-Recording parseRecording(const std::string& text, const std::string& source) {
+Recording parseRecording(const std::string& whole, const std::string& source) {
+    const std::string text =
+        std::string_view(whole).substr(0, kByteOrderMark.size()) == kByteOrderMark
+            ? whole.substr(kByteOrderMark.size())
+            : whole;
     Recording rec;
     std::istringstream in(text);
     std::string line;
@@ -203,6 +211,7 @@ bool isRecordingFile(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     std::string first;
     std::getline(in, first);
+    if (first.rfind(kByteOrderMark, 0) == 0) first.erase(0, kByteOrderMark.size());
     return first.rfind("vsculpt-recording", 0) == 0;
 }
 

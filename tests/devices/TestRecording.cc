@@ -4,7 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <random>
+
+#include <unistd.h>
 
 namespace vsculpt::devices {
 namespace {
@@ -90,6 +93,23 @@ TEST(Recording, BadFilesAreRefusedWithFileAndLine) {
                 "r.vsrec:2: bad product id 'zz'");
     expectError(head + "12 m report 00\ndevice n spacemouse hidraw 1 2\n",
                 "r.vsrec:4: device after the first event");
+}
+
+// A recording an editor saved with a UTF-8 byte order mark is still a recording, read the
+// same (found by QA: it was taken for a script, "unknown command 'vsculpt-recording'").
+TEST(Recording, AByteOrderMarkFirstIsSkipped) {
+    const std::string text = "vsculpt-recording 1\ndevice m spacemouse hidraw 256f c635\n"
+                             "10 m arrived 6f2535c6\n20 m report 0301000200\n";
+    const Recording plain = parseRecording(text, "r.vsrec");
+    const Recording marked = parseRecording("\xEF\xBB\xBF" + text, "r.vsrec");
+    ASSERT_EQ(marked.events.size(), plain.events.size());
+    for (size_t i = 0; i < plain.events.size(); ++i)
+        EXPECT_EQ(marked.events[i].bytes, plain.events[i].bytes);
+    const auto file = std::filesystem::temp_directory_path() /
+                      ("vsculpt-bom-" + std::to_string(::getpid()) + ".vsrec");
+    std::ofstream(file, std::ios::binary) << "\xEF\xBB\xBF" << text;
+    EXPECT_TRUE(isRecordingFile(file));
+    std::filesystem::remove(file);
 }
 
 // A recorder killed mid-write leaves its last line cut short: the events before it replay,

@@ -108,6 +108,38 @@ TEST(Mirror, EveryPlacementModeKeepsTheSymmetry) {
     }
 }
 
+// A mirrored stroke beside the plane is the stroke and its image, not a trench or ridge
+// joining them (found by QA: two eye sockets 16 mm apart, mirrored, joined across the nose
+// 5.7 mm deep where two separate strokes left 1.8 mm: a vertex on the plane aimed at the
+// midpoint of its two feet, a tool that is not there). The surface on the plane, between the
+// two grooves or bumps, is where two separate strokes put it, to a tenth of the tool radius.
+TEST(Mirror, AStrokeBesideThePlaneIsTheStrokeAndItsImageNotOneBetween) {
+    for (ToolOp op : {ToolOp::Carve, ToolOp::Add}) {
+        SCOPED_TRACE(toString(op));
+        SculptConfig cfg;  // swept placement, the default sphere of radius 40
+        Sculpture mirrored(cfg), separate(cfg);
+        const auto stroke = path({{7, -38.923, -6}, {8, -39.192, 0}, {7, -38.923, 6}});
+        const auto image = path({{-7, -38.923, -6}, {-8, -39.192, 0}, {-7, -38.923, 6}});
+        applyStroke(mirrored, op, 4, stroke, nullptr, MirrorAxis::X);
+        applyStroke(separate, op, 4, stroke);
+        applyStroke(separate, op, 4, image);
+        const double rho = 0.5 * mirrored.levels().level(4).diameterMm;
+        // The surface along -y through (x, 0) on and near the plane.
+        auto surfaceY = [](const Sculpture& s, double x) {
+            FieldProbe f(s);
+            double lo = -60, hi = -20;  // outside, inside
+            for (int i = 0; i < 60; ++i) {
+                const double mid = 0.5 * (lo + hi);
+                (f.value(Vec3(x, mid, 0)) > 0 ? hi : lo) = mid;
+            }
+            return 0.5 * (lo + hi);
+        };
+        for (double x : {0.0, 2.0, 4.0})
+            EXPECT_NEAR(surfaceY(mirrored, x), surfaceY(separate, x), 0.1 * rho) << "x = " << x;
+        EXPECT_LE(mirrorDefect(mirrored, MirrorAxis::X), 1e-6);
+    }
+}
+
 // In empty space an add's caps aim at the tool's ball (docs/placement.md "In empty space"):
 // mirrored dabs and strokes, the two halves overlapping across the plane, stay exactly
 // symmetric, and the mirrored dab has the tool's size too.

@@ -64,7 +64,8 @@ double wholeMeshSpacing(const Session& session, double spacing, const std::strin
     char text[400];
     if (option.empty()) {
         std::snprintf(text, sizeof text,
-                      "the sculpture is %.4g mm across, more than the whole-sculpture grid's %d "
+                      "the region the sculpture's clay reaches is %.4g mm across (its skeletons' "
+                      "reach), more than the whole-sculpture grid's %d "
                       "cells per axis hold at %.3g mm: meshing at %.3g mm",
                       across, Session::kWholeMeshMaxCells, spacing, fit);
         warning = text;
@@ -72,14 +73,16 @@ double wholeMeshSpacing(const Session& session, double spacing, const std::strin
     }
     if (fit > maxMm)
         std::snprintf(text, sizeof text,
-                      "%s %.3g: the sculpture is %.4g mm across, too large to mesh whole at any "
+                      "%s %.3g: the region the sculpture's clay reaches is %.4g mm across, too "
+                      "large to mesh whole at any "
                       "spacing vsculpt offers (the grid holds %d cells per axis, %s at most %.0f "
                       "mm); undo what was placed that far out",
                       option.c_str(), spacing, across, Session::kWholeMeshMaxCells, option.c_str(),
                       maxMm);
     else
         std::snprintf(text, sizeof text,
-                      "%s %.3g: the sculpture is %.4g mm across, more than the whole-sculpture "
+                      "%s %.3g: the region the sculpture's clay reaches is %.4g mm across, more "
+                      "than the whole-sculpture "
                       "grid's %d cells per axis hold at that spacing: give %s %.3g or more",
                       option.c_str(), spacing, across, Session::kWholeMeshMaxCells, option.c_str(),
                       fit);
@@ -99,11 +102,12 @@ std::string exportDetailWarning(const Session& session, double spacing) {
     std::snprintf(capNote, sizeof capNote, "as much of it as the grid's %d cells per axis allow",
                   Session::kWholeMeshMaxCells);
     char text[320];
-    std::snprintf(text, sizeof text,
-                  "the export's grid spacing, %.3g mm, is coarser than the sculpture's finest "
-                  "detail (clay of size %d, shown in full from zoom %d at %.3g mm), which it loses: "
-                  "--export-spacing %.3g keeps %s",
-                  spacing, d.finestSize, d.zoom, d.detailMm, suggest, d.capped ? capNote : "it");
+    std::snprintf(
+        text, sizeof text,
+        "the export's grid spacing, %.3g mm, is coarser than the sculpture's finest "
+        "detail (clay of size %d, shown in full from zoom %d at %.3g mm), which it loses: "
+        "--export-spacing %.3g keeps %s",
+        spacing, d.finestSize, d.zoom, d.detailMm, suggest, d.capped ? capNote : "it");
     return text;
 }
 

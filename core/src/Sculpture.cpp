@@ -87,10 +87,14 @@ SkeletonCounts Sculpture::counts() const {
 }
 
 Aabb Sculpture::supportBounds() const {
+    // Only what raises the field: a carve's negative weights cannot make surface where no
+    // positive one reaches (found by QA: a carve grew "the sculpture is N mm across", and the
+    // finest export the grid allows coarsened with it).
     Aabb box;
     for (const PointSkeleton& p : mPoints)
-        box.expand(Aabb{p.centerMm, p.centerMm}.padded(p.supportMm));
+        if (p.weight > 0) box.expand(Aabb{p.centerMm, p.centerMm}.padded(p.supportMm));
     mStore.forEach([&](const SkeletonEntry& e) {
+        if (!(e.weight > 0)) return;
         const ToolLevel& l = mLevels->level(e.level);
         const Vec3 pos = Vec3(e.coord.x, e.coord.y, e.coord.z) * l.spacingMm;
         box.expand(Aabb{pos, pos}.padded(l.supportMm));

@@ -931,4 +931,21 @@ TEST(Zoom, ZoomedMeshIsTheFullResolutionMeshClipped) {
     EXPECT_EQ(s.store().vertexCount(), skeletons);  // zooming adds no shape data
 }
 
+// The whole-mesh grid covers where the surface can be: skeletons with positive weight. A
+// carve's negative weights lower the field only, so they do not widen it (found by QA: a
+// vase's foot carve made "the sculpture" 210 mm across, and its finest export coarser).
+TEST(Sculpture, SupportBoundsAreThoseOfWhatRaisesTheField) {
+    SculptConfig cfg;
+    Sculpture s(cfg);
+    const Aabb sphere = s.supportBounds();
+    ASSERT_FALSE(sphere.empty());
+    const int level = 5;
+    const double h = s.levels().level(level).spacingMm;
+    const LatticeCoord far{int(std::ceil(300 / h)), 0, 0};
+    s.store().set(level, far, -1.0f);
+    EXPECT_EQ(s.supportBounds().max.x, sphere.max.x);
+    s.store().set(level, far, 1.0f);
+    EXPECT_NEAR(s.supportBounds().max.x, far.x * h + s.levels().level(level).supportMm, 1e-9);
+}
+
 }  // namespace

@@ -58,7 +58,8 @@ class Sculpture {
     RigidTransform worldFromObject;
 
     SkeletonCounts counts() const;
-    /// Bounds of every skeleton's support (where f can exceed -c); empty when nothing exists.
+    /// Bounds of the supports of the skeletons with positive weight: the surface lies inside,
+    /// as negative weights only lower the field (f <= -c outside). Empty when there is none.
     Aabb supportBounds() const;
 
   private:

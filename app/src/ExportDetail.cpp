@@ -89,7 +89,8 @@ double wholeMeshSpacing(const Session& session, double spacing, const std::strin
     throw studio::SessionError(text);
 }
 
-std::string exportDetailWarning(const Session& session, double spacing) {
+std::string exportDetailWarning(const Session& session, double spacing, const std::string& what,
+                                const std::string& option) {
     const ExportDetail d = exportDetail(session, spacing);
     if (d.zoom == 0 || spacing <= d.detailMm * (1 + 1e-9)) return {};
     // Three significant digits, rounded so that the printed spacing does what the sentence
@@ -102,12 +103,11 @@ std::string exportDetailWarning(const Session& session, double spacing) {
     std::snprintf(capNote, sizeof capNote, "as much of it as the grid's %d cells per axis allow",
                   Session::kWholeMeshMaxCells);
     char text[320];
-    std::snprintf(
-        text, sizeof text,
-        "the export's grid spacing, %.3g mm, is coarser than the sculpture's finest "
-        "detail (clay of size %d, shown in full from zoom %d at %.3g mm), which it loses: "
-        "--export-spacing %.3g keeps %s",
-        spacing, d.finestSize, d.zoom, d.detailMm, suggest, d.capped ? capNote : "it");
+    std::snprintf(text, sizeof text,
+                  "%s, %.3g mm, is coarser than the sculpture's finest detail (clay of size %d, "
+                  "shown in full from zoom %d at %.3g mm), which it loses: %s %.3g keeps %s",
+                  what.c_str(), spacing, d.finestSize, d.zoom, d.detailMm, option.c_str(), suggest,
+                  d.capped ? capNote : "it");
     return text;
 }
 

@@ -130,7 +130,14 @@ int runRenderStill(const RenderOptions& o, std::ostream& out, std::ostream& err)
         std::string coarser;
         spacing = wholeMeshSpacing(*session, spacing, o.spacingMm > 0 ? "--spacing" : "",
                                    RenderOptions::kMaxSpacingMm, coarser);
-        if (!coarser.empty()) spdlog::warn("{}", coarser);
+        if (!coarser.empty())
+            spdlog::warn("{}", coarser);
+        else if (o.spacingMm <= 0)
+            // As play says of its exports (found by QA: size-2 dots came out square, unsaid).
+            if (const std::string w =
+                    exportDetailWarning(*session, spacing, "the still's mesh spacing", "--spacing");
+                !w.empty())
+                spdlog::warn("{}", w);
         const auto meshStart = std::chrono::steady_clock::now();
         const core::Mesh mesh = session->wholeMesh(spacing);
         spdlog::debug("meshed at {:.3g} mm: {} triangles in {}", spacing, mesh.triangleCount(),

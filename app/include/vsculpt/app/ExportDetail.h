@@ -42,7 +42,10 @@ double wholeMeshSpacing(const studio::Session& session, double spacingMm, const 
 /// When an export at `spacingMm` cannot hold the session's finest detail: a sentence saying so
 /// and which --export-spacing would keep it; empty otherwise. The suggestion is
 /// exportDetail's keepingMm rounded to three digits (down to keep the detail, up to fit the
-/// grid's 1 024 cells per axis).
-std::string exportDetailWarning(const studio::Session& session, double spacingMm);
+/// grid's 1 024 cells per axis). `what` and `option` name the mesh and its option for other
+/// commands (`vsculpt render`: "the still's mesh spacing", "--spacing").
+std::string exportDetailWarning(const studio::Session& session, double spacingMm,
+                                const std::string& what = "the export's grid spacing",
+                                const std::string& option = "--export-spacing");
 
 }  // namespace vsculpt::app

@@ -75,6 +75,15 @@ struct DeviceInput::State {
         devices::PolhemusConfig config;
         bool stylus = false;  // the record carries the stylus switch
         int64_t lastPenNs = 0;
+        // The last pen tip placed, and a sample held back because it jumped from there (see
+        // penJumps): a glitch when the next sample is back near the pen, a real move (tracking
+        // regained elsewhere) when the next is near it.
+        struct PenTip {
+            core::Vec3 world{0.0};
+            int64_t ns = 0;
+            uint32_t buttons = 0;
+        };
+        std::optional<PenTip> lastTip, heldJump;
         // The hand-held object station: the sculpture's pose relative to the receiver, fixed
         // when the receiver is first seen (so grabbing does not make the sculpture jump).
         std::optional<core::RigidTransform> stationFromObject;
@@ -396,20 +405,51 @@ struct DeviceInput::State {
                 ++n.rejectedEdits;
                 continue;
             }
-            toolWorld = world;
-            // The thesis: always engaged. Otherwise the stylus switch, when the records carry
-            // it; without one the tool is engaged elsewhere (a window's mouse button).
-            if (cfg.penAlwaysEngaged)
-                interaction.setEngaged(true);
-            else if (t.stylus)
-                interaction.setEngaged((s.buttons & 1u) != 0);
-            try {
-                interaction.moveTool(world);
-            } catch (const studio::SessionError&) {
-                // The lattices refused the point: the stroke was cancelled by the session.
-                // (An invariant failure, std::logic_error, is a bug and is not counted.)
-                ++n.rejectedEdits;
+            const Tracker::PenTip tip{world, s.timeNs, s.buttons};
+            if (t.heldJump) {
+                const Tracker::PenTip held = *t.heldJump;
+                t.heldJump.reset();
+                if (!penJumps(held, tip)) {
+                    // The pen is there: tracking regained elsewhere. Never one stroke across
+                    // (ended here even when the pen is always engaged).
+                    studio.endStroke();
+                    placePen(t, held, n);
+                } else {
+                    ++n.jumps;  // it was a glitch: dropped
+                }
             }
+            if (t.lastTip && penJumps(*t.lastTip, tip)) {
+                t.heldJump = tip;
+                continue;
+            }
+            placePen(t, tip, n);
+        }
+    }
+
+    // Faster than a hand moves the pen (5 m/s) and farther than 30 mm: a tracker glitch, or
+    // tracking lost and regained elsewhere (found by QA: one glitched record 3.5 m out swept
+    // a tube 3.5 m long, 1.5 GB). Such a sample is held back one sample to tell which.
+    static bool penJumps(const Tracker::PenTip& from, const Tracker::PenTip& to) {
+        const double mm = glm::length(to.world - from.world);
+        const double seconds = std::max<int64_t>(0, to.ns - from.ns) * 1e-9;
+        return mm > std::max(30.0, 5000.0 * seconds);
+    }
+
+    void placePen(Tracker& t, const Tracker::PenTip& tip, DeviceCounters& n) {
+        t.lastTip = tip;
+        toolWorld = tip.world;
+        // The thesis: always engaged. Otherwise the stylus switch, when the records carry
+        // it; without one the tool is engaged elsewhere (a window's mouse button).
+        if (cfg.penAlwaysEngaged)
+            interaction.setEngaged(true);
+        else if (t.stylus)
+            interaction.setEngaged((tip.buttons & 1u) != 0);
+        try {
+            interaction.moveTool(tip.world);
+        } catch (const studio::SessionError&) {
+            // The lattices refused the point: the stroke was cancelled by the session.
+            // (An invariant failure, std::logic_error, is a bug and is not counted.)
+            ++n.rejectedEdits;
         }
     }
 
@@ -537,6 +577,7 @@ std::string DeviceInput::summary() const {
         if (c.outOfOrder) s << ", " << c.outOfOrder << " out of order";
         if (c.rejectedEdits) s << ", " << c.rejectedEdits << " tool samples refused";
         if (c.outOfReach) s << ", " << c.outOfReach << " out of reach (dropped)";
+        if (c.jumps) s << ", " << c.jumps << " jump(s) faster than a hand (dropped)";
         if (c.departures) s << ", left " << c.departures << "x";
         if (c.stalls) s << ", stalled " << c.stalls << "x";
         s << "\n";

@@ -5,6 +5,7 @@
 #include "DeviceReports.h"
 
 #include "vsculpt/app/DeviceInput.h"
+#include "vsculpt/core/EvalField.h"
 #include "vsculpt/core/Mesh.h"
 
 #include <gtest/gtest.h>
@@ -153,6 +154,40 @@ TEST(DeviceInput, APoseBeyondAnyTrackersReachIsDroppedAsAGlitch) {
               glitched.session().sculpture().counts().total());
     EXPECT_EQ(core::canonicalMeshHash(plain.session().wholeMesh()),
               core::canonicalMeshHash(glitched.session().wholeMesh()));
+}
+
+// Found by QA: a record glitched 3.5 m out, inside the trackers' reach, swept a tube 3.5 m
+// long. A pen sample faster than a hand (5 m/s, 30 mm) and back is dropped: the sculpture is
+// the clean stroke's. A jump that stays (tracking regained elsewhere) is followed, as a new
+// stroke: never one stroke swept across the gap.
+TEST(DeviceInput, APenJumpFasterThanAHandIsDroppedOrStartsANewStroke) {
+    const core::SculptConfig cfg = config();
+    Studio plain(cfg), glitched(cfg), moved(cfg);
+    for (Studio* studio : {&plain, &glitched, &moved}) {
+        Interaction ui(*studio, /*alwaysEngaged=*/true);
+        DeviceInput input(cfg.devices, deviceRules(cfg.devices), ui, *studio);
+        input.handle(arrived(0, "tracker", 0x0f44, 0xff20));
+        auto stroke = penStroke(kMs, 30, 3.2);
+        if (studio == &moved)  // from sample 15 on, 60 mm along +y (tracking regained there)
+            for (size_t i = 15; i < stroke.size(); ++i)
+                stroke[i] = test::report(
+                    stroke[i].timeNs, "tracker",
+                    test::libertyRecord(1, -1.5 + 0.1 * double(i), 6.0, 3.2, uint32_t(i)));
+        for (size_t i = 0; i < stroke.size(); ++i) {
+            input.handle(stroke[i]);
+            if (studio == &glitched && i == 14)
+                input.handle(test::report(stroke[i].timeNs + kMs, "tracker",
+                                          test::libertyRecord(1, 350.0, 0.0, 3.2, 100)));
+        }
+        input.handle({DeviceEventKind::Left, 400 * kMs, "tracker", {}});
+        EXPECT_EQ(input.counters().at("tracker").jumps, studio == &glitched ? 1u : 0u);
+    }
+    EXPECT_EQ(core::canonicalMeshHash(plain.session().wholeMesh()),
+              core::canonicalMeshHash(glitched.session().wholeMesh()));
+    // Moved: two strokes, none across the 60 mm gap (the clay between them untouched).
+    EXPECT_EQ(moved.session().history().done().size(), 2u);
+    core::FieldProbe f(moved.session().sculpture());
+    EXPECT_LT(f.value(core::Vec3(0, 30, 32)), 0) << "a stroke was swept across the jump";
 }
 
 TEST(DeviceInput, HandHeldObjectStationMovesTheSculpture) {

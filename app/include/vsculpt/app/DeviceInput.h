@@ -51,6 +51,7 @@ struct DeviceCounters {
     uint64_t outOfOrder = 0;     ///< samples older than the previous one, dropped
     uint64_t rejectedEdits = 0;  ///< tool samples the sculpture could not take
     uint64_t outOfReach = 0;     ///< poses beyond kTrackerReachMm from the tracker, dropped
+    uint64_t jumps = 0;          ///< pen samples that jumped faster than a hand and back, dropped
     uint64_t arrivals = 0, departures = 0, stalls = 0;
 };
 

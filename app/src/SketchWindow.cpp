@@ -490,7 +490,9 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
                 if (a.name == "preferences_changed") {
                     uiLayer->setScale(float(cfg.render.uiScale));
                 } else if (applySharedUiAction(a, *rig, uiState, cfg, message, switched)) {
-                    if (!message.empty()) spdlog::info("{}", message);
+                    // Opening a dialog or the recent list says nothing new (found by QA: the
+                    // last "saved DIR" was logged again).
+                    if (!message.empty() && !opensPanel(a.name)) spdlog::info("{}", message);
                 } else {
                     applyAction(a.name);
                 }

@@ -333,7 +333,9 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
                     display.ipdMm = cfg.render.ipdMm;
                     uiLayer->setScale(float(cfg.render.uiScale));
                 } else if (applySharedUiAction(a, *rig, uiState, cfg, message, switched)) {
-                    if (!message.empty()) spdlog::info("{}", message);
+                    // Opening a dialog or the recent list says nothing new (found by QA: the
+                    // last "saved DIR" was logged again).
+                    if (!message.empty() && !opensPanel(a.name)) spdlog::info("{}", message);
                 } else {
                     doAction(a.name);
                 }

@@ -560,6 +560,11 @@ std::filesystem::path typedPath(const std::filesystem::path& typed) {
 
 }  // namespace
 
+bool opensPanel(const std::string& n) {
+    return n == "open_save_as_dialog" || n == "open_export_dialog" || n == "open_import_dialog" ||
+           n == "open_recent";
+}
+
 bool closeOpenPanel(UiState& state) {
     for (bool* open : {&state.help, &state.recent, &state.preferences})
         if (*open) {

@@ -149,6 +149,9 @@ std::vector<std::pair<std::string, std::string>> helpLines(
 /// open, and returns true; false when none is.
 bool closeOpenPanel(UiState& state);
 
+/// The shared actions that only open a dialog or a panel (and so have nothing to report).
+bool opensPanel(const std::string& actionName);
+
 /// Applies a UI action both windows share (save, save_as, export, open_project,
 /// new_project, save_preferences) on `rig`. Returns true when it was one of them, with the
 /// message for the user in `message`; a failed dialog action keeps the dialog open with the

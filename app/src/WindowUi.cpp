@@ -453,12 +453,15 @@ std::vector<UiAction> sculptUi(UiState& state, const SculptUiView& v, core::Scul
         ImGui::Text("project");
         ImGui::SameLine(values);
         ImGui::TextUnformatted(v.project.c_str());
+        // The buttons before the message, so a message of a few lines (save as, new project)
+        // never moves them under the pointer (found by QA: a click meant for "recent..."
+        // saved again).
+        ui::projectButtons(state, v.bindings, actions);
         if (!v.message.empty()) {
             ImGui::PushTextWrapPos(420);
             ImGui::TextColored(ImVec4(1, 0.85f, 0.4f, 1), "%s", v.message.c_str());
             ImGui::PopTextWrapPos();
         }
-        ui::projectButtons(state, v.bindings, actions);
     }
     ImGui::End();
 

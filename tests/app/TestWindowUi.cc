@@ -431,6 +431,25 @@ TEST(WindowUi, EscClosesAnOpenPanelFirst) {
     EXPECT_EQ(lastFrame, 10u) << "the first Esc closed the window, or the second did not";
 }
 
+// A message on the status panel (after a save, an error) does not move its buttons (found by
+// QA: a click aimed at "recent..." landed on "save" once a message had pushed it down).
+TEST(WindowUi, AMessageDoesNotMoveThePanelsButtons) {
+    app::WindowOptions o = scratchWindow(12);
+    app::WindowOptions::Report report;
+    o.report = &report;
+    app::UiRect before{}, after{};
+    o.onFrame = [&](size_t frame, const app::UiState& ui, std::vector<InputEvent>& inject) {
+        if (frame == 3) before = ui.rects.at("button:recent...");
+        if (frame == 4) inject.push_back(key(GLFW_KEY_F5, true));  // save: says something
+    };
+    std::ostringstream out, err;
+    ASSERT_EQ(app::runWindow(o, out, err), 0) << err.str();
+    ASSERT_FALSE(report.message.empty());
+    after = report.ui.rects.at("button:recent...");
+    EXPECT_EQ(after.cx(), before.cx());
+    EXPECT_EQ(after.cy(), before.cy()) << "the message moved the buttons";
+}
+
 TEST(WindowUi, TypingInTheExportDialogRunsNoBindingsAndErrorsStayInTheDialog) {
     const fs::path dir = std::filesystem::temp_directory_path() /
                          ("vsculpt-ui-export-" + std::to_string(::getpid()));

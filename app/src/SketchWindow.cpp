@@ -149,7 +149,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
     bool running = true;
     core::Aabb frameBox = rig->session().published()->bounds;
     // The panel spans the whole window (canvas and 3D view), drawn over both.
-    if (uiLayer) uiLayer->setScale(float(cfg.render.uiScale));
+    if (uiLayer) uiLayer->setScale(fittedUiScale(cfg.render.uiScale, viewer->height()));
     UiState uiState;
     glm::dvec2 uiPointer(-1.0);
     bool uiOwnsButton[3] = {};
@@ -167,6 +167,8 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
             spdlog::info("closing: {}", ::strsignal(sig));
             break;
         }
+        // A resized window keeps its UI inside it (fonts rebuilt only when the scale changes).
+        if (uiLayer) uiLayer->setScale(fittedUiScale(cfg.render.uiScale, viewer->height()));
         const auto t0 = std::chrono::steady_clock::now();
         // Save as and new project replace the studio: fetched anew every frame.
         Studio& studio = rig->studio();
@@ -488,7 +490,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
             for (const UiAction& a : actions) {
                 if (switched) break;
                 if (a.name == "preferences_changed") {
-                    uiLayer->setScale(float(cfg.render.uiScale));
+                    uiLayer->setScale(fittedUiScale(cfg.render.uiScale, viewer->height()));
                 } else if (applySharedUiAction(a, *rig, uiState, cfg, message, switched)) {
                     // Opening a dialog or the recent list says nothing new (found by QA: the
                     // last "saved DIR" was logged again).

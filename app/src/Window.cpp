@@ -148,7 +148,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
     render::StereoDisplay display;
     display.ipdMm = cfg.render.ipdMm;
     display.verticalFovDeg = cfg.render.verticalFovDeg;
-    if (uiLayer) uiLayer->setScale(float(cfg.render.uiScale));
+    if (uiLayer) uiLayer->setScale(fittedUiScale(cfg.render.uiScale, viewer->height()));
     UiState uiState;
     glm::dvec2 uiPointer(-1.0);  // the pointer on the UI texture
     bool uiOwnsButton[3] = {};   // a press the UI took: its release is the UI's too
@@ -190,6 +190,8 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
             spdlog::info("closing: {}", ::strsignal(sig));
             break;
         }
+        // A resized window keeps its UI inside it (fonts rebuilt only when the scale changes).
+        if (uiLayer) uiLayer->setScale(fittedUiScale(cfg.render.uiScale, viewer->height()));
         Studio& studio = studioNow();
         const Session& session = sessionNow();
         Interaction& ui = rig->interaction();
@@ -331,7 +333,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
                 if (a.name == "preferences_changed") {
                     mode = render::parseStereoMode(cfg.render.stereo);
                     display.ipdMm = cfg.render.ipdMm;
-                    uiLayer->setScale(float(cfg.render.uiScale));
+                    uiLayer->setScale(fittedUiScale(cfg.render.uiScale, viewer->height()));
                 } else if (applySharedUiAction(a, *rig, uiState, cfg, message, switched)) {
                     // Opening a dialog or the recent list says nothing new (found by QA: the
                     // last "saved DIR" was logged again).

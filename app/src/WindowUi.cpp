@@ -563,6 +563,10 @@ std::filesystem::path typedPath(const std::filesystem::path& typed) {
 
 }  // namespace
 
+float fittedUiScale(double configured, int heightPx) {
+    return float(std::max(0.5, std::min(configured, double(std::max(1, heightPx)) / 560.0)));
+}
+
 bool opensPanel(const std::string& n) {
     return n == "open_save_as_dialog" || n == "open_export_dialog" || n == "open_import_dialog" ||
            n == "open_recent";

@@ -450,6 +450,33 @@ TEST(WindowUi, AMessageDoesNotMoveThePanelsButtons) {
     EXPECT_EQ(after.cy(), before.cy()) << "the message moved the buttons";
 }
 
+// ui_scale 4 (allowed: for a 4K screen) on a small window hid the save buttons and the whole
+// sculpture (found by QA). The scale is capped to what the window's height can show: the
+// status panel and the palette stay inside the window, apart, and leave the middle free.
+TEST(WindowUi, ALargeUiScaleIsCappedToTheWindow) {
+    EXPECT_FLOAT_EQ(app::fittedUiScale(4, 2240), 4.0f);
+    EXPECT_FLOAT_EQ(app::fittedUiScale(4, 640), 640.0f / 560.0f);
+    EXPECT_FLOAT_EQ(app::fittedUiScale(1, 640), 1.0f);
+    EXPECT_FLOAT_EQ(app::fittedUiScale(1, 100), 0.5f);
+    const fs::path cfg =
+        fs::temp_directory_path() / ("vsculpt-uiscale-" + std::to_string(::getpid()) + ".json");
+    std::ofstream(cfg) << R"({"render": {"ui_scale": 4}})";
+    app::WindowOptions o = scratchWindow(4);
+    o.configPath = cfg.string();
+    app::WindowOptions::Report report;
+    o.report = &report;
+    std::ostringstream out, err;
+    ASSERT_EQ(app::runWindow(o, out, err), 0) << err.str();
+    const app::UiRect status = report.ui.rects.at("status"),
+                      palette = report.ui.rects.at("palette");
+    EXPECT_LE(status.y1, o.height);
+    EXPECT_GE(palette.y0, 0);
+    EXPECT_LT(status.y1, palette.y0) << "the status panel and the palette overlap";
+    EXPECT_TRUE(report.ui.rects.count("button:save (F5)") || report.ui.rects.count("button:save"))
+        << "the save button is not drawn";
+    fs::remove(cfg);
+}
+
 TEST(WindowUi, TypingInTheExportDialogRunsNoBindingsAndErrorsStayInTheDialog) {
     const fs::path dir = std::filesystem::temp_directory_path() /
                          ("vsculpt-ui-export-" + std::to_string(::getpid()));

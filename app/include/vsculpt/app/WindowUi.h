@@ -149,6 +149,11 @@ std::vector<std::pair<std::string, std::string>> helpLines(
 /// open, and returns true; false when none is.
 bool closeOpenPanel(UiState& state);
 
+/// The UI scale a window of `heightPx` can show: the config's, at most heightPx / 560 (and
+/// at least 0.5), so the panels never cover the whole sculpture (found by QA: ui_scale 4 on
+/// a 1280x800 window hid the save buttons and the sculpture). At 1 up to 560 px tall.
+float fittedUiScale(double configured, int heightPx);
+
 /// The shared actions that only open a dialog or a panel (and so have nothing to report).
 bool opensPanel(const std::string& actionName);
 

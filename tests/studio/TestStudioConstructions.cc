@@ -52,7 +52,7 @@ double spacingOfLastStep(const Session& s) {
 // The body of the seed's three-section method: 60 mm long (x), 30 mm wide (y), 20 mm above
 // z = 0 and 15 below. Outline and back line (a) on the front view, belly line (c) on the
 // side view, torso line (b) on the top view.
-std::string threeSectionScript(double top) {
+std::string threeSectionScript(double top, bool bellyUpward = false) {
     const auto outline = [top](double t) {
         const double a = 2 * M_PI * t;
         return glm::dvec2(30 * std::cos(a), (std::sin(a) > 0 ? top : 15) * std::sin(a));
@@ -63,8 +63,8 @@ std::string threeSectionScript(double top) {
     const auto torso = [](double t) {
         return glm::dvec2(30 * std::cos(M_PI * t), 15 * std::sin(M_PI * t));
     };
-    const auto belly = [top](double t) {
-        const double phi = (M_PI / 2 + 0.64) * t;
+    const auto belly = [top, bellyUpward](double t) {
+        const double phi = (M_PI / 2 + 0.64) * (bellyUpward ? 1 - t : t);
         return glm::dvec2(15 * std::sin(phi),
                           phi <= M_PI / 2 ? top * std::cos(phi) : 15 * std::cos(phi));
     };
@@ -72,6 +72,17 @@ std::string threeSectionScript(double top) {
            "role surface-y last\npage side-view\n" + pen(belly) +
            "role surface-x last\npage top-view\n" + pen(torso) +
            "role surface-z last\npage body\nsolid three-section\n";
+}
+
+// The belly line drawn from the bottom up is the same line (found by QA: refused, "must
+// start on top", while the other three lines may be drawn either way).
+TEST(StudioConstructions, TheBellyLineMayBeDrawnEitherWay) {
+    Studio down(emptyConfig()), up(emptyConfig());
+    run(down, threeSectionScript(20));
+    run(up, threeSectionScript(20, /*bellyUpward=*/true));
+    ASSERT_EQ(up.session().history().done().size(), 1u);
+    EXPECT_EQ(core::canonicalMeshHash(up.session().view().mesh()),
+              core::canonicalMeshHash(down.session().view().mesh()));
 }
 
 TEST(StudioConstructions, ThreeSectionsFromPenStrokesOnThreeViews) {

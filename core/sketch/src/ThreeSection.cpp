@@ -134,6 +134,10 @@ ThreeSections buildSections(const SurfaceLines& lines) {
     // it leaves (c) smoothly.
     Polyline2 belly = lines.belly;
     {
+        // Drawn from the bottom up: the same line (found by QA: refused, while the other
+        // three lines may be drawn either way).
+        if (belly.size() >= 2 && belly.back().y > belly.front().y)
+            std::reverse(belly.begin(), belly.end());
         const Range y = rangeOf(belly, 0);
         const double top = belly.front().y;
         if (!(y.hi > 0) || !(top > 0))

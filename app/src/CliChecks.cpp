@@ -30,23 +30,26 @@ std::pair<int, int> parseImageSize(const std::string& text, const std::string& o
     return {w, h};
 }
 
-void requirePngPath(const std::filesystem::path& path, const std::string& option) {
-    std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
+namespace {
+
+// `path` ends in `ext` (any case), else std::invalid_argument: "OPTION PATH: WHY".
+void requireExtension(const std::filesystem::path& path, const char* ext, const std::string& option,
+                      const char* why) {
+    std::string got = path.extension().string();
+    std::transform(got.begin(), got.end(), got.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
-    if (ext != ".png")
-        throw std::invalid_argument(option + " " + path.string() +
-                                    ": images are written as PNG; name the file .png");
+    if (got != ext) throw std::invalid_argument(option + " " + path.string() + ": " + why);
+}
+
+}  // namespace
+
+void requirePngPath(const std::filesystem::path& path, const std::string& option) {
+    requireExtension(path, ".png", option, "images are written as PNG; name the file .png");
 }
 
 void requireRecordingPath(const std::filesystem::path& path, const std::string& option) {
-    std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
-    if (ext != ".vsrec")
-        throw std::invalid_argument(option + " " + path.string() +
-                                    ": device recordings are written as .vsrec; name the file "
-                                    ".vsrec");
+    requireExtension(path, ".vsrec", option,
+                     "device recordings are written as .vsrec; name the file .vsrec");
 }
 
 namespace {

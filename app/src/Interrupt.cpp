@@ -19,17 +19,22 @@ static_assert(std::atomic<bool>::is_always_lock_free && std::atomic<int>::is_alw
 
 const int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
 
-// Async-signal-safe: atomics, unlink (in removeTemporaryFilesInProgress), sigaction, raise.
-extern "C" void onInterrupt(int sig) {
-    int none = 0;
-    if (sInScope.load() && sNoted.compare_exchange_strong(none, sig)) return;
+// Removes the temporary files of writes in progress and raises `sig` with its default
+// action: the process ends as the signal says (from a handler, once the handler returns, as
+// the signal is blocked while it runs). Async-signal-safe: unlink, sigaction, raise.
+void endBy(int sig) {
     core::removeTemporaryFilesInProgress();
     struct sigaction dfl {};
     dfl.sa_handler = SIG_DFL;
     sigemptyset(&dfl.sa_mask);
     ::sigaction(sig, &dfl, nullptr);
-    // Blocked while this handler runs: delivered, with the default action, once it returns.
     ::raise(sig);
+}
+
+extern "C" void onInterrupt(int sig) {
+    int none = 0;
+    if (sInScope.load() && sNoted.compare_exchange_strong(none, sig)) return;
+    endBy(sig);
 }
 
 }  // namespace
@@ -66,14 +71,7 @@ int takeInterruptSignal() {
 }
 
 void endIfInterrupted() {
-    const int sig = sNoted.exchange(0);
-    if (sig == 0) return;
-    core::removeTemporaryFilesInProgress();
-    struct sigaction dfl {};
-    dfl.sa_handler = SIG_DFL;
-    sigemptyset(&dfl.sa_mask);
-    ::sigaction(sig, &dfl, nullptr);
-    ::raise(sig);
+    if (const int sig = sNoted.exchange(0)) endBy(sig);
 }
 
 }  // namespace vsculpt::app

@@ -280,18 +280,15 @@ TEST(WindowUi, HoldingTheButtonStillMakesOneDab) {
 // What the close box does, Ctrl-C and SIGTERM (a logout) do too: the stroke in flight is
 // ended and journaled, the project snapshotted, so the next open recovers nothing. The same
 // for a `--play` line refused mid-script: the work before it is closed as usual.
-struct ClosedProject {
-    size_t journalRecords = 0, recovered = 0, steps = 0, skeletons = 0;
-};
-
-ClosedProject reopen(const fs::path& dir) {
-    ClosedProject c;
-    c.journalRecords = core::readJournal(core::journalPath(dir)).records.size();
+// Reopened, the project holds `steps` steps and `skeletons` skeletons in its snapshot: the
+// journal is empty, nothing is recovered.
+void expectClosedWithASnapshot(const fs::path& dir, size_t steps, size_t skeletons) {
+    EXPECT_EQ(core::readJournal(core::journalPath(dir)).records.size(), 0u)
+        << "no closing snapshot absorbed the journal";
     auto studio = studio::Studio::openProject(dir, core::SculptConfig{});
-    c.recovered = studio->session().recoveredEdits();
-    c.steps = studio->stepCount();
-    c.skeletons = studio->session().sculpture().counts().lattice;
-    return c;
+    EXPECT_EQ(studio->session().recoveredEdits(), 0u);
+    EXPECT_EQ(studio->stepCount(), steps);
+    EXPECT_EQ(studio->session().sculpture().counts().lattice, skeletons);
 }
 
 TEST(WindowUi, SigtermClosesTheWindowAsItsCloseBoxWouldAndSavesTheWork) {
@@ -319,11 +316,7 @@ TEST(WindowUi, SigtermClosesTheWindowAsItsCloseBoxWouldAndSavesTheWork) {
     EXPECT_NE(err.str().find("closing: "), std::string::npos) << err.str();
     EXPECT_EQ(report.steps, 1u);
     EXPECT_GT(report.skeletons, 0u);
-    const ClosedProject c = reopen(dir);
-    EXPECT_EQ(c.journalRecords, 0u) << "no closing snapshot absorbed the journal";
-    EXPECT_EQ(c.recovered, 0u);
-    EXPECT_EQ(c.steps, 1u);
-    EXPECT_EQ(c.skeletons, report.skeletons);
+    expectClosedWithASnapshot(dir, 1, report.skeletons);
     fs::remove_all(dir);
 }
 
@@ -346,11 +339,7 @@ TEST(WindowUi, AScriptLineRefusedClosesTheWindowWithItsWorkSaved) {
     EXPECT_EQ(app::runWindow(o, out, err), 2) << err.str();
     EXPECT_NE(err.str().find(":2: "), std::string::npos) << err.str();
     EXPECT_EQ(report.steps, 1u);
-    const ClosedProject c = reopen(dir);
-    EXPECT_EQ(c.journalRecords, 0u) << "no closing snapshot absorbed the journal";
-    EXPECT_EQ(c.recovered, 0u);
-    EXPECT_EQ(c.steps, 1u);
-    EXPECT_EQ(c.skeletons, report.skeletons);
+    expectClosedWithASnapshot(dir, 1, report.skeletons);
     fs::remove_all(dir);
     fs::remove(script);
 }

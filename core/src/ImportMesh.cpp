@@ -14,6 +14,7 @@
 #include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/VolumeToMesh.h>
 #include <assimp/Importer.hpp>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <array>
@@ -613,6 +614,24 @@ void checkImportFile(const std::filesystem::path& path, const ImportOptions& opt
         if (const std::string problem = plyHeaderProblem(start, ec ? start.size() : bytes);
             !problem.empty())
             throw ImportError(name + ":" + problem);
+    }
+    if (ext == ".gltf" && !ec) {
+        // Assimp says only "No suitable reader found" of a .gltf whose JSON is broken (found by
+        // QA): name the line and column, as every other refusal of a file does.
+        std::ifstream in(path, std::ios::binary);
+        std::ostringstream text;
+        text << in.rdbuf();
+        const std::string json = text.str();
+        try {
+            (void)nlohmann::json::parse(json);
+        } catch (const nlohmann::json::parse_error& e) {
+            const size_t at = std::min<size_t>(e.byte > 0 ? e.byte - 1 : 0, json.size());
+            const size_t line = size_t(std::count(json.begin(), json.begin() + long(at), '\n')) + 1;
+            const size_t lineStart = json.rfind('\n', at == 0 ? 0 : at - 1);
+            const size_t column = at - (lineStart == std::string::npos ? 0 : lineStart + 1) + 1;
+            throw ImportError(name + ":" + std::to_string(line) + ":" + std::to_string(column) +
+                              ": not valid glTF: its JSON does not parse");
+        }
     }
     if (ext == ".stl" && !ec) {
         // Assimp says only "Failed to determine STL storage representation" of a binary STL

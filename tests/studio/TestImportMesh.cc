@@ -582,9 +582,12 @@ TEST_F(ImportMesh, BadFilesAreRefusedNamingTheFile) {
         const auto path = dir.path / (std::string("junk") + ext);
         writeText(path, junk);
         const std::string msg = importMessage(path);
-        // The file first, then (where the check knows it: a PLY header) the line.
-        EXPECT_EQ(msg.rfind(path.string() + (std::string(ext) == ".ply" ? ":1: " : ": "), 0), 0u)
-            << msg;
+        // The file first, then (where the check knows it: a PLY header, glTF's JSON) the
+        // line and column.
+        const std::string where = std::string(ext) == ".ply"    ? ":1: "
+                                  : std::string(ext) == ".gltf" ? ":1:1: "
+                                                                : ": ";
+        EXPECT_EQ(msg.rfind(path.string() + where, 0), 0u) << msg;
         EXPECT_NE(msg, "(no error)") << ext;
         std::printf("%s: %s\n", ext, msg.c_str());
     }
@@ -621,6 +624,12 @@ TEST_F(ImportMesh, BadFilesAreRefusedNamingTheFile) {
     EXPECT_NE(importMessage(padded).find("but the file has 694 (bytes after the last triangle"),
               std::string::npos)
         << importMessage(padded);
+    // A .gltf whose JSON is cut short: its line and column, not Assimp's "No suitable reader
+    // found" (found by QA).
+    const auto cutGltf = dir.path / "cut.gltf";
+    writeText(cutGltf, "{\"asset\": {\"version\": \"2.0\"},\n  \"meshes\": [,\n");
+    EXPECT_EQ(importMessage(cutGltf),
+              cutGltf.string() + ":2:14: not valid glTF: its JSON does not parse");
     const auto prose = dir.path / "prose.stl";
     writeText(prose, "hello, this is a letter and not a mesh at all, which a user named .stl\n");
     EXPECT_EQ(importMessage(prose),

@@ -6,6 +6,7 @@
 #include "vsculpt/core/Project.h"
 #include "vsculpt/core/WriteFileAtomically.h"
 #include "vsculpt/core/Zoom.h"
+#include "vsculpt/devices/Recording.h"
 #include "vsculpt/render/StereoCamera.h"
 
 #include <glm/gtc/quaternion.hpp>
@@ -164,6 +165,13 @@ std::vector<std::vector<core::Vec3>> projectOnModel(const Session& session,
         lines.push_back(std::move(line));
     }
     return lines;
+}
+
+studio::Script loadWindowScript(const std::string& path) {
+    if (devices::isRecordingFile(path))
+        throw std::invalid_argument(path + ": a device recording: replay it with `vsculpt play " +
+                                    path + "` (--play takes a playback script)");
+    return studio::loadScript(path);
 }
 
 bool playNextScriptCommand(Studio& studio, const studio::Script& script, size_t& index) {

@@ -7,7 +7,6 @@
 #include "vsculpt/app/Rig.h"
 #include "vsculpt/app/SketchInkList.h"
 #include "vsculpt/core/WriteFileAtomically.h"
-#include "vsculpt/devices/Recording.h"
 #include "vsculpt/render/ProjectStroke.h"
 #include "vsculpt/render/SketchCanvas.h"
 #include "vsculpt/render/UiLayer.h"
@@ -47,10 +46,6 @@ render::CanvasView canvasView(const studio::CanvasView& v, glm::ivec2 px) {
     return r;
 }
 
-const char* planeName(SketchPlane p) {
-    return p == SketchPlane::Front ? "front" : p == SketchPlane::Side ? "side" : "top";
-}
-
 }  // namespace
 
 int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::ostream& err) {
@@ -73,12 +68,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
     try {
         cfg = core::loadConfig(o.configPath.empty() ? core::defaultConfigPath()
                                                     : std::filesystem::path(o.configPath));
-        // A recording given to --play: said what to do, not "unknown command" (QA).
-        if (!o.playScript.empty() && devices::isRecordingFile(o.playScript))
-            throw std::invalid_argument(o.playScript +
-                                        ": a device recording: replay it with `vsculpt play " +
-                                        o.playScript + "` (--play takes a playback script)");
-        if (!o.playScript.empty()) script = loadScript(o.playScript);
+        if (!o.playScript.empty()) script = loadWindowScript(o.playScript);
     } catch (const std::exception& e) {
         spdlog::error("{}", e.what());
         return 2;
@@ -470,7 +460,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
             uiLayer->beginFrame(W, H, std::max(1e-3, frameMs / 1000));
             SketchUiView view;
             view.page = page().name();
-            view.plane = planeName(studio.plane(studio.document().currentIndex()));
+            view.plane = sketch::sketchPlaneName(studio.plane(studio.document().currentIndex()));
             view.pageIndex = studio.document().currentIndex();
             view.pageCount = studio.document().pageCount();
             view.cleanup = page().mode() == studio::SketchMode::Cleanup;
@@ -596,7 +586,7 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
                       "vsculpt sketch — page '%s' (%s view) · %s%s · %zu stroke(s), %zu "
                       "curve(s) · %zu step(s) · %s",
                       page().name().c_str(),
-                      planeName(studio.plane(studio.document().currentIndex())),
+                      sketch::sketchPlaneName(studio.plane(studio.document().currentIndex())),
                       page().mode() == studio::SketchMode::Draft ? "draft" : "clean-up",
                       page().mode() == studio::SketchMode::Draft
                           ? ""

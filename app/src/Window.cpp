@@ -10,7 +10,6 @@
 #include "vsculpt/core/DurationHistogram.h"
 #include "vsculpt/core/Project.h"
 #include "vsculpt/core/WriteFileAtomically.h"
-#include "vsculpt/devices/Recording.h"
 #include "vsculpt/render/UiLayer.h"
 #include "vsculpt/render/Viewer.h"
 #include "vsculpt/studio/PickTool.h"
@@ -69,12 +68,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         cfg = loadConfig(o.configPath.empty() ? defaultConfigPath()
                                               : std::filesystem::path(o.configPath));
         mode = render::parseStereoMode(o.stereo.empty() ? cfg.render.stereo : o.stereo);
-        // A recording given to --play: said what to do, not "unknown command" (QA).
-        if (!o.playScript.empty() && devices::isRecordingFile(o.playScript))
-            throw std::invalid_argument(o.playScript +
-                                        ": a device recording: replay it with `vsculpt play " +
-                                        o.playScript + "` (--play takes a playback script)");
-        if (!o.playScript.empty()) script = loadScript(o.playScript);
+        if (!o.playScript.empty()) script = loadWindowScript(o.playScript);
     } catch (const std::exception& e) {
         spdlog::error("{}", e.what());
         return 2;

@@ -10,6 +10,34 @@
 
 namespace vsculpt::studio {
 
+namespace {
+
+// A role as scripts write it ("surface-x"): one table both ways.
+constexpr std::pair<const char*, studio::Role> kRoleWords[] = {
+    {"none", studio::Role::None},
+    {"outline", studio::Role::Outline},
+    {"surface-x", studio::Role::SurfaceLineX},
+    {"surface-y", studio::Role::SurfaceLineY},
+    {"surface-z", studio::Role::SurfaceLineZ},
+    {"sweep-section", studio::Role::SweepSection},
+    {"sweep-path", studio::Role::SweepPath},
+    {"cut", studio::Role::Cut},
+    {"extrude", studio::Role::Extrude}};
+
+}  // namespace
+
+const char* roleScriptWord(studio::Role role) {
+    for (const auto& [word, r] : kRoleWords)
+        if (r == role) return word;
+    return "none";
+}
+
+studio::Role roleFromScriptWord(const std::string& word) {
+    for (const auto& [w, r] : kRoleWords)
+        if (word == w) return r;
+    throw std::invalid_argument("unknown role '" + word + "'");
+}
+
 sketch::SolidConstruction constructionFromName(const std::string& name) {
     using C = sketch::SolidConstruction;
     for (C c : {C::Inflate, C::ThreeSection, C::Sweep, C::Cut, C::Extrude})
@@ -17,41 +45,6 @@ sketch::SolidConstruction constructionFromName(const std::string& name) {
     throw std::invalid_argument("unknown solid construction '" + name +
                                 "' (use inflate, three-section, sweep, cut or extrude)");
 }
-
-namespace {
-
-const char* roleWord(studio::Role r) {
-    using R = studio::Role;
-    switch (r) {
-        case R::Outline:
-            return "outline";
-        case R::SurfaceLineX:
-            return "surface-x";
-        case R::SurfaceLineY:
-            return "surface-y";
-        case R::SurfaceLineZ:
-            return "surface-z";
-        case R::SweepSection:
-            return "sweep-section";
-        case R::SweepPath:
-            return "sweep-path";
-        case R::Cut:
-            return "cut";
-        case R::Extrude:
-            return "extrude";
-        case R::None:
-            break;
-    }
-    return "none";
-}
-
-const char* viewWord(sketch::SketchPlane p) {
-    return p == sketch::SketchPlane::Front  ? "front"
-           : p == sketch::SketchPlane::Side ? "side"
-                                            : "top";
-}
-
-}  // namespace
 
 sketch::SketchSolidInput sketchSolidInput(sketch::SolidConstruction construction,
                                           const studio::SketchDocument& document,
@@ -111,14 +104,15 @@ sketch::SketchSolidInput sketchSolidInput(sketch::SolidConstruction construction
                     list += (list.empty() ? "" : ", ") + n;
                 throw std::invalid_argument(
                     what + ": " + pageName + " has " + std::to_string(names.size()) + " " +
-                    roleWord(role) + (closed ? (*closed ? " (closed)" : " (open)") : "") +
+                    roleScriptWord(role) + (closed ? (*closed ? " (closed)" : " (open)") : "") +
                     " lines (" + list + "); give the ones not meant role none");
             }
             if (view && found->plane != *view)
-                throw std::invalid_argument(
-                    what + ": the " + roleWord(role) + " line must be drawn on a " +
-                    viewWord(*view) + " view; " + pageName + " is a " + viewWord(found->plane) +
-                    " view (a page named side... or top... is one)");
+                throw std::invalid_argument(what + ": the " + roleScriptWord(role) +
+                                            " line must be drawn on a " +
+                                            sketch::sketchPlaneName(*view) + " view; " + pageName +
+                                            " is a " + sketch::sketchPlaneName(found->plane) +
+                                            " view (a page named side... or top... is one)");
             return found;
         }
         return std::nullopt;

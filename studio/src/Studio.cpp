@@ -26,29 +26,7 @@
 
 namespace vsculpt::studio {
 
-namespace {
-
-const char* planeName(sketch::SketchPlane p) {
-    return p == SketchPlane::Front ? "front" : p == SketchPlane::Side ? "side" : "top";
-}
-
-studio::Role roleFromScript(const std::string& name) {
-    using R = studio::Role;
-    static const std::pair<const char*, R> table[] = {{"none", R::None},
-                                                      {"outline", R::Outline},
-                                                      {"surface-x", R::SurfaceLineX},
-                                                      {"surface-y", R::SurfaceLineY},
-                                                      {"surface-z", R::SurfaceLineZ},
-                                                      {"sweep-section", R::SweepSection},
-                                                      {"sweep-path", R::SweepPath},
-                                                      {"cut", R::Cut},
-                                                      {"extrude", R::Extrude}};
-    for (const auto& [n, r] : table)
-        if (name == n) return r;
-    throw std::invalid_argument("unknown role '" + name + "'");
-}
-
-}  // namespace
+namespace {}  // namespace
 
 studio::SketchParams recommendedSketchParams() {
     studio::SketchParams p;
@@ -846,7 +824,7 @@ void Studio::applySketch(const ScriptCommand& c) {
             sketchStep([](studio::SketchPage& p) { p.deleteSelection(); });
             return;
         case V::Role: {
-            const studio::Role role = roleFromScript(s.name);
+            const studio::Role role = roleFromScriptWord(s.name);
             sketchStep([&](studio::SketchPage& p) {
                 if (s.target == SketchCommand::Target::Stroke) {
                     p.setStrokeRole(s.ids[0], role);
@@ -941,7 +919,7 @@ void Studio::writeSketchFile() const {
         mNotice("the sketch was not saved: " + failed);
     std::vector<std::string> planes;
     for (size_t i = 0; i < mDocument.pageCount(); ++i)
-        planes.emplace_back(planeName(plane(i)));
+        planes.emplace_back(sketch::sketchPlaneName(plane(i)));
     auto state = std::make_shared<const SketchFileState>(SketchFileState{
         mDocument, std::move(planes), mDone, mUndone, mSurfaceLines, mUndoneSurfaceLines});
     mSketchWriter->post([state] { return sketchFileText(*state); });

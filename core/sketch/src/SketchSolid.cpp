@@ -258,6 +258,10 @@ Polyline2 preparePath(const Polyline2& path, double step) {
 
 }  // namespace
 
+const char* sketchPlaneName(SketchPlane plane) {
+    return plane == SketchPlane::Front ? "front" : plane == SketchPlane::Side ? "side" : "top";
+}
+
 SketchView sketchPlaneView(SketchPlane plane) {
     SketchView v;
     switch (plane) {

@@ -85,6 +85,10 @@ void installProjector(studio::Studio& studio);
 /// A window's `--play` script runs one command per frame: applies the command at `index`
 /// (if any is left) and advances it. On failure logs "FILE:LINE: why" and returns false;
 /// the window then ends with exit code 2.
+/// A window's --play script (studio::loadScript); a device recording given instead is refused
+/// saying to replay it with `vsculpt play` (std::invalid_argument), not "unknown command".
+studio::Script loadWindowScript(const std::string& path);
+
 bool playNextScriptCommand(studio::Studio& studio, const studio::Script& script, size_t& index);
 /// A window's run ended (--frames, its close box, a signal) before its --play script did:
 /// warns naming the line it stopped at, so a partial run is not taken for the whole.

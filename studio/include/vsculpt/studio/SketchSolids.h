@@ -14,6 +14,11 @@
 
 namespace vsculpt::studio {
 
+/// A role as scripts and messages write it: "none", "outline", "surface-x", ..., "extrude".
+const char* roleScriptWord(studio::Role role);
+/// The role a script word names; std::invalid_argument ("unknown role 'W'") otherwise.
+studio::Role roleFromScriptWord(const std::string& word);
+
 /// "inflate", "three-section", "sweep", "cut", "extrude"; std::invalid_argument otherwise.
 sketch::SolidConstruction constructionFromName(const std::string& name);
 

@@ -43,6 +43,9 @@ namespace vsculpt::sketch {
 
 enum class SketchPlane { Front, Side, Top };
 
+// "front", "side" or "top": the view's name in sketch.json, scripts and messages.
+const char* sketchPlaneName(SketchPlane plane);
+
 // The view's canvas frame as a SketchView (origin 0, right, up), for cutMesh and extrudeMesh.
 SketchView sketchPlaneView(SketchPlane plane);
 // Canvas mm on the view → object mm on the view's canvas plane (through the origin).

@@ -476,8 +476,11 @@ JournalScan scanJournal(const fs::path& path) {
     if (!fs::exists(path, ec)) return out;
     const std::string data = readProjectFile(path);
     if (data.size() < kMagicBytes) {
-        if (!data.empty())
-            out.warning = path.string() + ": shorter than its header; treated as empty";
+        // Empty too: the writer writes the header before any record, so an empty file is
+        // what a file system left after a crash or a truncation, and edits may be missing.
+        out.warning = path.string() +
+                      (data.empty() ? ": empty (0 bytes)" : ": shorter than its header") +
+                      "; treated as a journal without records";
         return out;
     }
     checkMagic(data, kJournalMagic, path, "journal");
@@ -922,6 +925,19 @@ void takeRecords(RecoveredProject& out, const fs::path& path, bool isCurrent, ui
     if (!scan.warning.empty()) out.warnings.push_back(std::move(scan.warning));
 }
 
+/// Whether the journal's first record after `last` leaves a gap (its sequence is past
+/// last + 1). False for a journal that cannot be read: takeRecords reports that.
+bool journalSkipsPast(const fs::path& path, uint64_t last) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) return false;
+    try {
+        for (const JournalRecord& rec : scanJournal(path).records)
+            if (rec.sequence > last) return rec.sequence > last + 1;
+    } catch (const ProjectError&) {
+    }
+    return false;
+}
+
 bool cannotLink(int err) {
     return err == EPERM || err == EOPNOTSUPP || err == EXDEV || err == EMLINK || err == ENOSYS;
 }
@@ -962,6 +978,19 @@ RecoveredProject readProject(const fs::path& dir) {
     }
     if (out.snapshot) {
         uint64_t last = out.snapshot->lastSequence;
+        // A snapshot older than journal.vjl (one restored from a copy, or the backup pair
+        // swapped in by hand) leaves a gap that journal.vjl.bak may hold: bridged from it,
+        // else the next save would rotate the backup journal away with the only copy of the
+        // edits between them.
+        if (journalSkipsPast(journalPath(dir), last)) {
+            const uint64_t from = last;
+            takeRecords(out, journalBackupPath(dir), false, last);
+            if (last > from)
+                out.warnings.push_back(snap.string() + " is older than " +
+                                       journalPath(dir).string() + ": edits " +
+                                       std::to_string(from + 1) + " to " + std::to_string(last) +
+                                       " taken from " + journalBackupPath(dir).string());
+        }
         takeRecords(out, journalPath(dir), true, last);
         return out;
     }

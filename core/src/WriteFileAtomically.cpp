@@ -153,6 +153,13 @@ void requireFileName(const fs::path& path) {
     const std::string name = path.filename().string();
     if (name.empty() || name == "." || name == "..")
         fail(path, "names a folder, not a file", EISDIR);
+    // Found before a long run rather than at its end (found by QA: "cannot replace: File name
+    // too long" after the meshing, of a file that did not exist).
+    if (name.size() > NAME_MAX)
+        fail(path,
+             "its name is " + std::to_string(name.size()) + " bytes, over the " +
+                 std::to_string(NAME_MAX) + " a file name may have",
+             ENAMETOOLONG);
 }
 
 /// A rename replaces whatever the name held: a device node (/dev/full, for a process running

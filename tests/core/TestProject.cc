@@ -428,6 +428,9 @@ TEST(WriteFileAtomically, EnsureWritableChecksTheFolderAndCreatesNothing) {
     expectError(dir.path / "file" / "out.glb", ENOTDIR);
     fs::create_directory(dir.path / "sub");
     expectError(dir.path / "sub", EISDIR);
+    // A name the file system cannot hold is found before any work (found by QA: after it).
+    expectError(dir.path / (std::string(252, 'n') + ".obj"), ENAMETOOLONG);
+    EXPECT_NO_THROW(ensureWritable(dir.path / (std::string(251, 'n') + ".obj")));
     if (::geteuid() != 0) {  // root may write anywhere
         fs::permissions(dir.path / "sub", fs::perms::owner_read | fs::perms::owner_exec);
         expectError(dir.path / "sub" / "out.glb", EACCES);
@@ -781,6 +784,76 @@ TEST(Project, ADamagedSnapshotIsRecoveredFromTheBackupAndBothJournals) {
     Reopened again(dir.path);
     EXPECT_TRUE(again.project.fromBackup);
     EXPECT_EQ(entries(*again.sculpture), final);
+}
+
+// Found by QA: the backup snapshot copied over the snapshot (a restore from an older copy)
+// opened as that older state with journal.vjl's edits dropped, and the next save rotated
+// journal.vjl.bak, the only copy of the edits between the two, away. journal.vjl.bak now
+// bridges the gap.
+TEST(Project, AnOlderSnapshotIsBridgedByTheBackupJournal) {
+    TempDir dir;
+    Sculptor s;
+    std::vector<Entry> final;
+    {
+        JournalWriter j(journalPath(dir.path), 0);
+        s.stroke(j, ToolOp::Add, 4, {-20, 0, 0}, {20, 0, 0});
+        s.save(dir.path, j);
+        s.stroke(j, ToolOp::Carve, 3, {0, -15, 0}, {0, 15, 0});
+        s.stroke(j, ToolOp::Add, 4, {-10, 10, 0}, {10, 10, 0});
+        s.save(dir.path, j);
+        s.stroke(j, ToolOp::Add, 5, {0, 0, -25}, {0, 0, 25});
+        s.stroke(j, ToolOp::Carve, 2, {5, 5, 0}, {10, 5, 0});
+        final = entries(s.sculpture);
+    }
+    ASSERT_EQ(readSnapshot(snapshotBackupPath(dir.path)).lastSequence, 1u);
+    fs::copy_file(snapshotBackupPath(dir.path), snapshotPath(dir.path),
+                  fs::copy_options::overwrite_existing);
+
+    Reopened r(dir.path);
+    EXPECT_FALSE(r.project.fromBackup);
+    ASSERT_EQ(r.project.records.size(), 4u);  // 2, 3 from journal.vjl.bak; 4, 5 from journal.vjl
+    EXPECT_EQ(r.project.records.front().sequence, 2u);
+    EXPECT_EQ(r.project.lastSequence(), 5u);
+    EXPECT_EQ(entries(*r.sculpture), final);
+    ASSERT_EQ(r.project.warnings.size(), 1u) << allWarnings(r.project);
+    EXPECT_EQ(r.project.warnings[0],
+              snapshotPath(dir.path).string() + " is older than " + journalPath(dir.path).string() +
+                  ": edits 2 to 3 taken from " + journalBackupPath(dir.path).string());
+    EXPECT_EQ(r.project.journalValidBytes, fs::file_size(journalPath(dir.path)));
+
+    // A save of what was recovered keeps every edit.
+    {
+        JournalWriter j(journalPath(dir.path), r.project.journalValidBytes);
+        saveProject(dir.path, configToJson(r.sculpture->config()), r.project.lastSequence(),
+                    *r.sculpture, r.history, j);
+    }
+    Reopened clean(dir.path);
+    EXPECT_TRUE(clean.project.warnings.empty()) << allWarnings(clean.project);
+    EXPECT_EQ(entries(*clean.sculpture), final);
+    EXPECT_EQ(clean.history.done().size(), 5u);
+}
+
+// Found by QA: a journal emptied by a file system (0 bytes) opened without a word, its edits
+// gone; one cut inside its header was named. Both are named now.
+TEST(Project, AnEmptyOrHeaderlessJournalIsNamed) {
+    TempDir dir;
+    Sculptor s;
+    {
+        JournalWriter j(journalPath(dir.path), 0);
+        s.stroke(j, ToolOp::Add, 4, {-20, 0, 0}, {20, 0, 0});
+        s.save(dir.path, j);
+        s.stroke(j, ToolOp::Carve, 3, {0, -15, 0}, {0, 15, 0});
+    }
+    for (size_t size : {0, 3}) {
+        fs::resize_file(journalPath(dir.path), size);
+        const RecoveredProject p = readProject(dir.path);
+        EXPECT_TRUE(p.records.empty());
+        ASSERT_EQ(p.warnings.size(), 1u) << allWarnings(p);
+        EXPECT_EQ(p.warnings[0],
+                  journalPath(dir.path).string() +
+                      (size == 0 ? ": empty (0 bytes)" : ": shorter than its header") +
+                      "; treated as a journal without records");
+    }
 }
 
 TEST(Project, EveryMomentOfASaveRecovers) {

@@ -3,6 +3,8 @@
 
 #include "vsculpt/app/ExportDetail.h"
 #include "vsculpt/core/ExportMesh.h"
+#include "vsculpt/core/HomeFolder.h"
+#include "vsculpt/core/PrintableText.h"
 #include "vsculpt/core/Project.h"
 #include "vsculpt/core/WriteFileAtomically.h"
 #include "vsculpt/core/Zoom.h"
@@ -10,6 +12,8 @@
 #include "vsculpt/render/StereoCamera.h"
 
 #include <glm/gtc/quaternion.hpp>
+
+#include <unistd.h>
 
 #include <cstdlib>
 #include <ctime>
@@ -38,9 +42,10 @@ RigOptions windowRigOptions(const std::string& projectDir, bool noProject, bool 
 std::filesystem::path dataDir() {
     const char* xdg = std::getenv("XDG_DATA_HOME");
     if (xdg && *xdg == '/') return std::filesystem::path(xdg) / "vsculpt";
-    const char* home = std::getenv("HOME");
-    if (home && *home) return std::filesystem::path(home) / ".local" / "share" / "vsculpt";
-    return std::filesystem::temp_directory_path() / "vsculpt";
+    if (const std::filesystem::path home = core::homeFolder(); !home.empty())
+        return home / ".local" / "share" / "vsculpt";
+    // No home folder at all: one of this user's own, never one that users share.
+    return std::filesystem::temp_directory_path() / ("vsculpt-" + std::to_string(::getuid()));
 }
 
 std::optional<std::filesystem::path> lastProjectRecorded() {
@@ -116,18 +121,23 @@ std::vector<std::filesystem::path> recentProjects() {
     return list;
 }
 
-std::filesystem::path newProjectDir(const std::string& kind) {
+std::filesystem::path unusedTimeName(const std::filesystem::path& folder,
+                                     const std::string& extension) {
     const std::time_t now = std::time(nullptr);
     std::tm local{};
     localtime_r(&now, &local);
     char stamp[32];
     std::strftime(stamp, sizeof stamp, "%Y-%m-%d-%H%M%S", &local);
-    const std::filesystem::path base = dataDir() / kind;
     for (int i = 0;; ++i) {
-        std::filesystem::path dir =
-            base / (std::string(stamp) + (i ? "-" + std::to_string(i) : ""));
-        if (!std::filesystem::exists(dir)) return dir;
+        std::filesystem::path p =
+            folder / (std::string(stamp) + (i ? "-" + std::to_string(i) : "") + extension);
+        std::error_code ec;
+        if (!std::filesystem::exists(std::filesystem::symlink_status(p, ec))) return p;
     }
+}
+
+std::filesystem::path newProjectDir(const std::string& kind) {
+    return unusedTimeName(dataDir() / kind, "");
 }
 
 render::ProjectionCamera frontCamera(const Session& session, glm::ivec2 viewportPx) {
@@ -235,10 +245,16 @@ Rig::Rig(const core::SculptConfig& cfg, const RigOptions& options)
             } else if (const auto gone = lastProjectRecorded()) {
                 // Moved, renamed or deleted: say so, or the user thinks the work is lost when
                 // it is only elsewhere (found by QA: a new empty project opened in silence).
+                // The file's bytes are shown escaped: it may hold anything (found by QA: a
+                // terminal escape sequence reached the terminal raw).
+                std::error_code ec;
+                const bool folder = std::filesystem::is_directory(*gone, ec);
                 spdlog::warn(
-                    "the last project, {}, is no longer there (moved or deleted?); starting a "
-                    "new one. Open a moved project with --project DIR",
-                    gone->string());
+                    "the last project, {}, {}; starting a new one. Open a moved "
+                    "project with --project DIR",
+                    core::printableText(gone->string(), 300),
+                    folder ? "holds no project (no snapshot.vsnap)"
+                           : "is no longer there (moved or deleted?)");
             }
             if (!mStudio) openStudio(newProjectDir("autosave"));
             break;
@@ -361,19 +377,11 @@ void Rig::close() {
 std::string Rig::saveAs(const std::filesystem::path& dir) {
     if (std::filesystem::exists(dir) && !std::filesystem::is_empty(dir))
         throw core::ProjectError(dir.string() + ": save as needs a new or empty folder");
-    if (const auto& from = mStudio->session().projectDir()) {
-        // A snapshot absorbs the journal; the copy is then the snapshot and the sketch.
-        pollImport(true);
-        mStudio->save();
-        std::filesystem::create_directories(dir);
-        for (const char* name : {"snapshot.vsnap", "sketch.json"})
-            if (std::filesystem::exists(*from / name))
-                std::filesystem::copy_file(*from / name, dir / name);
-    } else {
-        throw core::ProjectError(
-            "this session has no project (started without one): "
-            "nothing to save as");
-    }
+    // Written from memory, not by saving the old project and copying it (found by QA: on a
+    // full disk the old project's save failed and so did save as, the way out of it). The old
+    // project keeps its journal, which holds every edit; a scratch session gets a project.
+    pollImport(true);
+    mStudio->saveCopyTo(dir);
     // "Continuing there": with the tool as it was, not the defaults (found by QA: the next
     // stroke came out unmirrored at another size).
     const Session& was = mStudio->session();
@@ -444,7 +452,9 @@ std::string Rig::openProject(const std::filesystem::path& dir) {
 std::filesystem::path Rig::defaultExportPath() const {
     const auto& dir = mStudio->session().projectDir();
     const std::filesystem::path folder = dir ? *dir / "exports" : dataDir() / "exports";
-    return folder / (newProjectDir("x").filename().string() + ".glb");
+    // Named after the time, and never after a file already there: two exports within a
+    // second each keep their own file.
+    return unusedTimeName(folder, ".glb");
 }
 
 std::string Rig::projectAction(const std::string& action) {

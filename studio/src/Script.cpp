@@ -382,7 +382,23 @@ Script parseScript(std::string_view text, const std::string& source) {
                           " is " + core::printableText(text.substr(*at, 1)) +
                           "; docs/playback.md)");
     }
-    std::istringstream in{std::string(text)};
+    // Line ends: LF, CRLF, and a lone CR (classic Mac OS, some exporters): as one line, a
+    // file of lone CRs was a single line, all of it a comment when it began with one (found by
+    // QA: the whole snowman dropped, exit 0).
+    std::string lines(text);
+    if (lines.find('\r') != std::string::npos) {
+        std::string unified;
+        unified.reserve(lines.size());
+        for (size_t i = 0; i < lines.size(); ++i) {
+            if (lines[i] != '\r') {
+                unified += lines[i];
+            } else if (i + 1 == lines.size() || lines[i + 1] != '\n') {
+                unified += '\n';
+            }
+        }
+        lines = std::move(unified);
+    }
+    std::istringstream in{std::move(lines)};
     std::string raw;
     int lineNo = 0;
     // A command may continue over following lines that end the previous one with '\'.
@@ -490,8 +506,11 @@ Script parseScript(std::string_view text, const std::string& source) {
     };
     while (std::getline(in, raw)) {
         ++lineNo;
-        if (!raw.empty() && raw.back() == '\r') raw.pop_back();
         const size_t hash = raw.find('#');
+        // A comment line inside a continued command is skipped, so a long stroke can carry
+        // notes between its points (it ended the command, which then ran cut short).
+        if (!pending.empty() && raw.find_first_not_of(" \t") == hash && hash != std::string::npos)
+            continue;
         std::string line = hash == std::string::npos ? raw : raw.substr(0, hash);
         // Trailing whitespace does not hide a continuation backslash.
         while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back())))

@@ -567,6 +567,16 @@ void Session::save() {
     mSnapshotSequence = mSequence;
 }
 
+void Session::saveCopyTo(const std::filesystem::path& dir) {
+    endStroke();
+    std::error_code ec;
+    if (std::filesystem::exists(snapshotPath(dir), ec) ||
+        std::filesystem::exists(journalPath(dir), ec))
+        throw SessionError(dir.string() + ": already holds a project");
+    std::filesystem::create_directories(dir);
+    writeProjectSnapshot(dir, projectConfigJson(mConfig), mSequence, *mSculpture, mHistory);
+}
+
 namespace {
 // Below the mesher's helpers (AsyncMesher::kHelperNice, +5), as exports: the frame and the
 // mesh on show come first; the snapshot's encoding is the CPU work here.

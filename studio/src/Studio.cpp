@@ -6,6 +6,7 @@
 #include "vsculpt/studio/ImportInBackground.h"
 #include "vsculpt/studio/SketchFileWriter.h"
 
+#include "vsculpt/core/InvalidJson.h"
 #include "vsculpt/core/JsonNesting.h"
 #include "vsculpt/core/Project.h"
 #include "vsculpt/core/WriteFileAtomically.h"
@@ -168,7 +169,7 @@ void Studio::loadSketchFile() {
     try {
         j = nlohmann::json::parse(text);
     } catch (const nlohmann::json::exception& e) {
-        throw std::invalid_argument(where + "not valid JSON (" + e.what() + ")");
+        throw std::invalid_argument(core::invalidJsonMessage(mFile->string(), text, e));
     }
     if (!j.is_object() || !j.contains("format") || j["format"] != "vsculpt-studio")
         throw std::invalid_argument(where + "format: expected \"vsculpt-studio\"");
@@ -685,8 +686,8 @@ int Studio::buildSolid(sketch::SolidConstruction construction, int level) {
     if (mSession->history().done().size() > before) {
         // A cut or an extrusion changes the last solid: built again from its own lines, that
         // solid is still the one regenerated.
-        BuiltSolid b = changesLast && last ? BuiltSolid{last->construction, last->sources}
-                                           : BuiltSolid{construction, std::move(sources)};
+        BuiltSolid b = changesLast && last ? BuiltSolid{last->construction, last->sources, 0, {}}
+                                           : BuiltSolid{construction, std::move(sources), 0, {}};
         b.timelineIndex = mDone.size() - 1;
         b.solid = std::make_shared<const sketch::SketchSolid>(std::move(built));
         mBuilt.push_back(std::move(b));
@@ -925,6 +926,17 @@ void Studio::writeSketchFile() const {
     mSketchWriter->post([state] { return sketchFileText(*state); });
     mWrittenDone = mDone;
     mWrittenUndone = mUndone;
+}
+
+void Studio::saveCopyTo(const std::filesystem::path& dir) {
+    endStroke();
+    mSession->saveCopyTo(dir);
+    std::vector<std::string> planes;
+    for (size_t i = 0; i < mDocument.pageCount(); ++i)
+        planes.emplace_back(sketch::sketchPlaneName(plane(i)));
+    const SketchFileState state{mDocument, std::move(planes), mDone,
+                                mUndone,   mSurfaceLines,     mUndoneSurfaceLines};
+    core::writeFileAtomically(dir / "sketch.json", sketchFileText(state), true);
 }
 
 void Studio::waitForSketchFile() const {

@@ -232,3 +232,51 @@ TEST_F(ExportInBackground, SaveAsContinuesWithTheToolAsItWas) {
     EXPECT_EQ(s.zoom(), 2);
     EXPECT_EQ(s.region().originCell, region.originCell);
 }
+
+// Found by QA: save as saved the old project first and copied it, so on a full disk it failed
+// as well, and it was the way out of the full disk. It now writes the new project from memory
+// and leaves the old project's files as they were (its journal holds every edit); a scratch
+// session (started without a project) can save as too.
+TEST_F(ExportInBackground, SaveAsWritesFromMemoryAndLeavesTheOldProjectAlone) {
+    auto contents = [](const std::filesystem::path& p) {
+        std::ifstream in(p, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    app::RigOptions options;
+    options.project = app::ProjectChoice::Given;
+    options.projectDir = dir / "project";
+    uint64_t hash = 0;
+    {
+        app::Rig rig(smallSphere(), options);
+        rig.studio().setSize(5);
+        rig.studio().stroke({Vec3(-30, 0, 10), Vec3(0, 0, 28), Vec3(30, 0, 10)}, false);
+        hash = core::canonicalMeshHash(rig.session().wholeMesh());
+        const std::string snapshot = contents(core::snapshotPath(options.projectDir));
+        const std::string journal = contents(core::journalPath(options.projectDir));
+        ASSERT_FALSE(journal.empty());
+        rig.saveAs(dir / "copy");
+        EXPECT_EQ(*rig.session().projectDir(), dir / "copy");
+        EXPECT_EQ(contents(core::snapshotPath(options.projectDir)), snapshot);
+        EXPECT_EQ(contents(core::journalPath(options.projectDir)), journal);
+        EXPECT_EQ(core::canonicalMeshHash(rig.session().wholeMesh()), hash);
+    }
+    for (const char* name : {"project", "copy"}) {
+        app::RigOptions again = options;
+        again.projectDir = dir / name;
+        app::Rig rig(smallSphere(), again);
+        EXPECT_EQ(core::canonicalMeshHash(rig.session().wholeMesh()), hash) << name;
+        EXPECT_EQ(rig.session().history().done().size(), 1u) << name;
+    }
+    {
+        app::Rig scratch(smallSphere(), app::RigOptions{});
+        scratch.studio().setSize(5);
+        scratch.studio().stroke({Vec3(-30, 0, 10), Vec3(0, 0, 28), Vec3(30, 0, 10)}, false);
+        scratch.saveAs(dir / "from-scratch");
+        EXPECT_EQ(*scratch.session().projectDir(), dir / "from-scratch");
+    }
+    app::RigOptions fromScratch = options;
+    fromScratch.projectDir = dir / "from-scratch";
+    app::Rig reopened(smallSphere(), fromScratch);
+    EXPECT_EQ(core::canonicalMeshHash(reopened.session().wholeMesh()), hash);
+    EXPECT_EQ(reopened.session().history().done().size(), 1u);
+}

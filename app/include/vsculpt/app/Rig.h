@@ -67,6 +67,10 @@ std::vector<std::filesystem::path> recentProjects();
 std::vector<std::filesystem::path> withRecentProject(std::vector<std::filesystem::path> list,
                                                      const std::filesystem::path& dir,
                                                      size_t max = 10);
+/// `folder`/YYYY-MM-DD-HHMMSS`extension` at the local time, with -1, -2, ... before the
+/// extension while that name is taken.
+std::filesystem::path unusedTimeName(const std::filesystem::path& folder,
+                                     const std::string& extension);
 /// A new, unused folder under dataDir()/`kind` named after the local time.
 std::filesystem::path newProjectDir(const std::string& kind);
 

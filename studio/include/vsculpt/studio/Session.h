@@ -127,6 +127,11 @@ class Session {
     /// Writes a snapshot and starts a new journal, keeping the previous pair as a backup
     /// (projects only; no-op otherwise). Throws SessionError for a read-only project.
     void save();
+    /// Writes this session's sculpture and history, from memory, as the snapshot of a new
+    /// project in `dir` (created; it must not hold a project): save as. The session's own
+    /// project is not written, so a full disk or a read-only folder there does not stop it,
+    /// and a scratch session's work gets a project. The session itself goes on as it was.
+    void saveCopyTo(const std::filesystem::path& dir);
     /// Saves as save() does, without the caller waiting for the file (F5 in the windows): the
     /// snapshot holds the clay and history as they are now (copies: Sculpture::clone), written
     /// on a thread of its own while editing goes on, every edit journaled as always. pollSave()

@@ -176,6 +176,8 @@ class Studio {
     /// Writes a snapshot of the sculpture and `sketch.json` (projects only), and waits for
     /// both: throws when either could not be written.
     void save();
+    /// Session::saveCopyTo, and the sketch beside it (`dir`/sketch.json).
+    void saveCopyTo(const std::filesystem::path& dir);
     /// The same without waiting for the snapshot (Session::saveInBackground) or sketch.json
     /// (its writer thread). Returns false without a project; pollSave() finishes it.
     bool saveInBackground();

@@ -5,6 +5,7 @@
 
 #include "UiWidgets.h"
 #include "vsculpt/app/Rig.h"
+#include "vsculpt/core/HomeFolder.h"
 #include "vsculpt/core/PatchConfigText.h"
 #include "vsculpt/core/WriteFileAtomically.h"
 
@@ -554,9 +555,9 @@ namespace {
 std::filesystem::path typedPath(const std::filesystem::path& typed) {
     std::filesystem::path p = typed;
     if (const std::string t = typed.string(); t == "~" || t.rfind("~/", 0) == 0) {
-        const char* home = std::getenv("HOME");
-        if (!home || !*home) throw std::invalid_argument(t + ": $HOME is not set");
-        p = std::filesystem::path(home) / (t.size() > 2 ? t.substr(2) : "");
+        const std::filesystem::path home = core::homeFolder();
+        if (home.empty()) throw std::invalid_argument(t + ": no home folder ($HOME is not set)");
+        p = home / (t.size() > 2 ? t.substr(2) : "");
     }
     return std::filesystem::absolute(p).lexically_normal();
 }

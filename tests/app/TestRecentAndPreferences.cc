@@ -55,6 +55,28 @@ TEST(RecentProjects, MostRecentFirstWithoutDuplicatesAndCut) {
     EXPECT_EQ(app::withRecentProject({"/a", "/b", "/c"}, "/d", 3), (P{"/d", "/a", "/b"}));
 }
 
+// Found by QA: the export key's default name was checked for a clash under another folder,
+// so two exports within a second wrote one file, the second replacing the first.
+TEST(RecentProjects, TimeNamesNeverReuseAFileOrFolderThere) {
+    const fs::path d = freshDir("time-names");
+    std::vector<fs::path> names;
+    for (int i = 0; i < 3; ++i) {
+        const fs::path p = app::unusedTimeName(d, ".glb");
+        EXPECT_EQ(p.parent_path(), d);
+        EXPECT_EQ(p.extension(), ".glb");
+        EXPECT_FALSE(fs::exists(p)) << p;
+        for (const fs::path& q : names)
+            EXPECT_NE(p, q);
+        std::ofstream(p) << "taken";
+        names.push_back(p);
+    }
+    // A dangling symbolic link takes its name too.
+    const fs::path next = app::unusedTimeName(d, ".glb");
+    fs::create_symlink(d / "nowhere", next);
+    EXPECT_NE(app::unusedTimeName(d, ".glb"), next);
+    fs::remove_all(d);
+}
+
 TEST(RecentProjects, RememberedInOrderAndOnlyExistingOnesOffered) {
     const fs::path root = freshDir("vsculpt-recent");
     ScopedEnv data("XDG_DATA_HOME", root / "data");
@@ -135,6 +157,23 @@ TEST(RecentProjects, ALastProjectNoLongerThereIsNamedWhenANewOneStarts) {
         app::Rig rig(cfg, app::windowRigOptions("", false, false));
     }
     EXPECT_EQ(again.str().find("no longer there"), std::string::npos) << again.str();
+    // A folder that holds no project, and a file holding anything, are named as such, its
+    // bytes escaped (found by QA: an escape sequence reached the terminal).
+    const fs::path recorded = root / "data" / "vsculpt" / "last-project";
+    fs::create_directories(root / "empty");
+    for (const std::string& line : {(root / "empty").string(), std::string("\x1b[31mred")}) {
+        std::ofstream(recorded) << line << "\n";
+        std::ostringstream said;
+        {
+            app::LogScope scope(said, app::Verbosity::Normal);
+            app::Rig rig(cfg, app::windowRigOptions("", false, false));
+        }
+        EXPECT_EQ(said.str().find('\x1b'), std::string::npos) << said.str();
+        EXPECT_NE(said.str().find(line[0] == '/' ? "holds no project (no snapshot.vsnap)"
+                                                 : "\\x1B[31mred, is no longer there"),
+                  std::string::npos)
+            << said.str();
+    }
     fs::remove_all(root);
 }
 

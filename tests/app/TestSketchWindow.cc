@@ -168,8 +168,8 @@ TEST(SketchWindow, SketchKeysAreConfiguredAndCheckedForClashes) {
     o.devices = false;
     std::ostringstream out, err;
     EXPECT_EQ(app::runSketchWindow(o, out, err), 2);
-    EXPECT_NE(err.str().find(cfg.string() + ": interaction.sketch_bindings.solid_inflate: key "
-                                            "'I' is already bound to lasso"),
+    EXPECT_NE(err.str().find(cfg.string() + ": interaction.sketch_bindings.lasso: key 'I' is "
+                                            "already bound to solid_inflate"),
               std::string::npos)
         << err.str();
     // Moving inflate to another key resolves it.

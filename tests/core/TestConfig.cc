@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/core/Config.h"
+#include "vsculpt/core/HomeFolder.h"
 #include "vsculpt/core/NearestName.h"
 
 #include <gtest/gtest.h>
+
+#include <pwd.h>
 
 #include <set>
 
@@ -204,9 +207,20 @@ TEST(Config, BindingsTakeGlfwKeyNamesOnly) {
     // Any case: "tab" is TAB, "z" is Z (stored as GLFW names them; until stop 37 "z" was
     // refused with "did you mean '0'?").
     const SculptConfig lower =
-        parseConfig(R"({"interaction": {"bindings": {"undo": "tab", "redo": "z"}}})", "l.json");
+        parseConfig(R"({"interaction": {"bindings": {"undo": "tab", "redo": "z",
+                                       "cycle_tool": "F9", "zoom_in": "F10"}}})",
+                    "l.json");
     EXPECT_EQ(lower.interaction.bindings.at("undo"), "TAB");
     EXPECT_EQ(lower.interaction.bindings.at("redo"), "Z");
+    // A key bound twice, in the file or with a default, is refused by every command (found by
+    // QA: `info` passed a file the window refused); keys swapped are fine.
+    EXPECT_EQ(errorOf(R"({"interaction": {"bindings": {"undo": "R"}}})"),
+              "test.json: interaction.bindings.undo: key 'R' is already bound to redo (by "
+              "default: bind redo to another key too)");
+    EXPECT_EQ(errorOf(R"({"interaction": {"sketch_bindings": {"undo": "kp_7", "redo": "KP_7"}}})"),
+              "test.json: interaction.sketch_bindings.redo: key 'KP_7' is already bound to undo");
+    EXPECT_NO_THROW(
+        parseConfig(R"({"interaction": {"bindings": {"undo": "R", "redo": "U"}}})", "s.json"));
     EXPECT_NE(errorOf(R"({"interaction": {"bindings": {"undo": "tabb"}}})")
                   .find("unknown key name 'tabb'"),
               std::string::npos);
@@ -251,8 +265,13 @@ TEST(Config, SyntaxErrorsNameFileLineAndColumn) {
     // A number past a double's range is the parser's other complaint (found by fuzzing: it
     // escaped as a bare nlohmann exception, exit 1 instead of 2, no file named).
     EXPECT_EQ(errorOf(R"({"tools": {"d4_mm": 1e400}})"),
-              "test.json: invalid JSON: [json.exception.out_of_range.406] number overflow parsing "
-              "'1e400'");
+              "test.json:1:21: invalid JSON: the number 1e400 is out of range (a double reaches "
+              "about 1.8e308)");
+    // One position, the file's, and no library exception ids (found by QA: "1:11: ... parse
+    // error at line 1, column 12").
+    EXPECT_EQ(errorOf("// nothing"),
+              "test.json:1:11: invalid JSON: syntax error while parsing value - unexpected end of "
+              "input; expected '[', '{', or a literal");
 }
 
 struct Bad {
@@ -508,6 +527,23 @@ class ScopedEnv {
     std::string mName;
     std::optional<std::string> mOld;
 };
+
+// Found by QA: with HOME unset (`env -i`, a service) the data folder was /tmp/vsculpt, which
+// every user shares: another user's session continued the project. The home folder now comes
+// from the password database then.
+TEST(Config, WithoutHomeTheUsersHomeFolderIsTheOneInThePasswordDatabase) {
+    const passwd* me = ::getpwuid(::getuid());
+    ASSERT_NE(me, nullptr);
+    ScopedEnv xdg("XDG_CONFIG_HOME", nullptr);
+    for (const char* home : {static_cast<const char*>(nullptr), "", "relative"}) {
+        ScopedEnv noHome("HOME", home);
+        EXPECT_EQ(homeFolder(), std::filesystem::path(me->pw_dir));
+        EXPECT_EQ(userConfigPath(),
+                  std::filesystem::path(me->pw_dir) / ".config" / "vsculpt" / "sculpt.json");
+    }
+    ScopedEnv someHome("HOME", "/somewhere/else");
+    EXPECT_EQ(homeFolder(), std::filesystem::path("/somewhere/else"));
+}
 
 // docs/config.md: --config, else $VSCULPT_CONFIG, else $XDG_CONFIG_HOME/vsculpt/sculpt.json
 // (~/.config/...), else the built-in defaults. Nothing points at the source tree.

@@ -112,6 +112,38 @@ TEST(Script, AByteOrderMarkAtTheStartIsSkipped) {
     }
 }
 
+// Found by QA: a file of lone CR line ends (classic Mac OS) was one line, all a comment when
+// it began with one, and played as an empty script with exit 0. LF, CRLF and CR now give the
+// same commands on the same lines; a comment line inside a continued command is skipped (it
+// ended the command, which ran cut short).
+TEST(Script, EveryLineEndGivesTheSameCommandsAndCommentsMayInterruptAContinuation) {
+    const std::string lf =
+        "# a snowman\ntool add\nsize 6\nstroke 0 0 50 \\\n# up\n  0 0 60 \\\n"
+        "   # and on\n  0 0 70\nundo\n";
+    auto crlf = lf, cr = lf;
+    for (size_t at = 0; (at = crlf.find('\n', at)) != std::string::npos; at += 2)
+        crlf.insert(at, "\r");
+    for (char& c : cr)
+        if (c == '\n') c = '\r';
+    for (const std::string& text : {lf, crlf, cr}) {
+        const Script s = parseScript(text, "ends.vsc");
+        ASSERT_EQ(s.commands.size(), 4u);
+        EXPECT_EQ(s.commands[0].kind, Kind::Tool);
+        EXPECT_EQ(s.commands[2].kind, Kind::Stroke);
+        EXPECT_EQ(s.commands[2].line, 4);
+        ASSERT_EQ(s.commands[2].points.size(), 3u);
+        EXPECT_EQ(s.commands[2].points[2].z, 70);
+        EXPECT_EQ(s.commands[3].kind, Kind::Undo);
+        EXPECT_EQ(s.commands[3].line, 9);
+    }
+    try {
+        parseScript("tool add\rsize 6\rstroke 0 0 0 \\\r  0 0 x\r", "cr.vsc");
+        ADD_FAILURE() << "a bad word was taken";
+    } catch (const ScriptError& e) {
+        EXPECT_NE(std::string(e.what()).find("cr.vsc:4:"), std::string::npos) << e.what();
+    }
+}
+
 // The window names pages "Sketch 1", "Sketch 2": a script reaches them quoted (found by QA:
 // `page "Sketch 1"` made a page named '"Sketch' in a group '1"').
 TEST(Script, QuotedWordsMayHoldSpaces) {

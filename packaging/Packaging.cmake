@@ -38,6 +38,8 @@ install(FILES ${PROJECT_SOURCE_DIR}/configs/70-vsculpt.rules DESTINATION ${VSCUL
 # docs/ keeps its folder so the "docs/x.md" references in README.md and the docs resolve.
 install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/LICENSE
         DESTINATION ${CMAKE_INSTALL_DOCDIR})
+# Debian Policy 12.5: the licence as /usr/share/doc/PACKAGE/copyright.
+install(FILES ${PROJECT_SOURCE_DIR}/LICENSE DESTINATION ${CMAKE_INSTALL_DOCDIR} RENAME copyright)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs
         FILES_MATCHING PATTERN "*.md")
 
@@ -100,6 +102,9 @@ set(CPACK_DEBIAN_PACKAGE_MAINTAINER "${VSCULPT_PACKAGE_MAINTAINER}")
 set(CPACK_DEBIAN_PACKAGE_SECTION graphics)
 set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
+# udev reads the new rule and applies it to the devices already plugged in, so they work
+# without a replug (found by QA: the package installed the rule and left it unread).
+set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA ${PROJECT_SOURCE_DIR}/packaging/postinst)
 find_program(VSCULPT_DPKG_SHLIBDEPS dpkg-shlibdeps)
 if(VSCULPT_DPKG_SHLIBDEPS)
   # Depends: from the libraries the binaries really link (OpenVDB, TBB, Embree, GLFW, ...).

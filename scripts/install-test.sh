@@ -216,9 +216,13 @@ if [ "$deb" = 1 ]; then
     dpkg-deb -f "$debfile" Package Version Section Maintainer Depends | sed 's/^/  | /'
     dpkg-deb -c "$debfile" >"$tmp/deb-contents"
     awk '{print "  | " $1 " " $6 ($7 ? " " $7 " " $8 : "")}' "$tmp/deb-contents"
-    for f in ./usr/bin/vsculpt ./usr/share/man/man1/vsculpt.1.gz ./usr/lib/udev/rules.d/70-vsculpt.rules; do
+    for f in ./usr/bin/vsculpt ./usr/share/man/man1/vsculpt.1.gz ./usr/lib/udev/rules.d/70-vsculpt.rules \
+             ./usr/share/doc/vsculpt/copyright; do
       grep -q " $f\$" "$tmp/deb-contents" || fail "$f is not in the package"
     done
+    # The maintainer script that has udev read the rule (a replug is not needed).
+    dpkg-deb -e "$debfile" "$tmp/deb-control"
+    grep -q "udevadm trigger" "$tmp/deb-control/postinst" 2>/dev/null || fail "no postinst running udevadm"
     # The packaged files on their own, unpacked (not installed: this changes nothing on the
     # machine).
     dpkg-deb -x "$debfile" "$tmp/deb-root"

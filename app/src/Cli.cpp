@@ -15,9 +15,12 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <filesystem>
+#include <iostream>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -364,6 +367,21 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         spdlog::error("{}", e.what());
         return 1;
     }
+}
+
+}  // namespace vsculpt::app
+
+namespace vsculpt::app {
+
+int standardOutputChecked(int code) {
+    errno = 0;
+    std::cout.flush();
+    const bool flushed = std::fflush(stdout) == 0;
+    const int why = errno;
+    if (std::cout && flushed && !std::ferror(stdout)) return code;
+    std::fprintf(stderr, "vsculpt: error: cannot write to standard output: %s\n",
+                 why != 0 ? std::strerror(why) : "write error");
+    return code == 0 ? 1 : code;
 }
 
 }  // namespace vsculpt::app

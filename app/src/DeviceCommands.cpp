@@ -84,7 +84,8 @@ int runDevices(const std::string& configPath, std::ostream& out, std::ostream& e
                 ++usable;
             } else {
                 out << "cannot open (" << d.openError
-                    << "): install configs/70-vsculpt.rules, see docs/devices.md\n";
+                    << "): install the udev rule 70-vsculpt.rules and replug it, see "
+                       "docs/devices.md\n";
             }
         } else {
             bool readable = false, present = false;
@@ -97,7 +98,8 @@ int runDevices(const std::string& configPath, std::ostream& out, std::ostream& e
                 out << "ready\n";
                 ++usable;
             } else if (present) {
-                out << "no permission on its hidraw node: install configs/70-vsculpt.rules, see "
+                out << "no permission on its hidraw node: install the udev rule 70-vsculpt.rules "
+                       "and replug it, see "
                        "docs/devices.md\n";
             } else {
                 out << "no hidraw node (is the kernel's hid driver loaded?)\n";
@@ -114,7 +116,9 @@ int runDevices(const std::string& configPath, std::ostream& out, std::ostream& e
         ++found;
         out << "  " << rule->name << "  " << usbId(h.vendor, h.product) << "  /dev/" << h.node
             << "  \"" << h.name << "\"  " << devices::toString(rule->driver) << " via hidraw  "
-            << (h.readable ? "ready" : "no permission: install configs/70-vsculpt.rules") << "\n";
+            << (h.readable ? "ready"
+                           : "no permission: install the udev rule 70-vsculpt.rules and replug it")
+            << "\n";
         usable += h.readable;
     }
     if (found == 0) {

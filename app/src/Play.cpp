@@ -139,7 +139,10 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
             std::string ext = std::filesystem::path(o.script).extension().string();
             std::transform(ext.begin(), ext.end(), ext.begin(),
                            [](unsigned char c) { return char(std::tolower(c)); });
-            if (ext == ".vsrec")
+            // A missing file or a folder is named as such (loadScript says why), not as a
+            // file without the recording's header (found by QA).
+            std::error_code ec;
+            if (ext == ".vsrec" && std::filesystem::is_regular_file(o.script, ec))
                 throw std::invalid_argument(
                     o.script +
                     ": not a device recording (it does not start with \"vsculpt-recording\")");
@@ -165,6 +168,11 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
         std::transform(ext.begin(), ext.end(), ext.begin(),
                        [](unsigned char c) { return char(std::tolower(c)); });
         const auto& known = exportExtensions();
+        if (std::error_code ec; std::filesystem::is_directory(path, ec)) {
+            spdlog::error("--out {}: it is a folder (give a file name, such as {})", path,
+                          (std::filesystem::path(path) / "sculpture.stl").string());
+            return 2;
+        }
         if (std::find(known.begin(), known.end(), ext) == known.end()) {
             spdlog::error(
                 "--out {}: unknown format '{}' (use .obj, .stl, .ply, .glb, .dxf or .vdb)", path,

@@ -227,9 +227,9 @@ struct HidrawTransport::Impl {
                 if (warned.insert(node.node).second)
                     spdlog::warn("device '{}' ({}): cannot open: {}{}", rule->name, path.string(),
                                  std::strerror(errno),
-                                 errno == EACCES
-                                     ? " (install configs/70-vsculpt.rules, see docs/devices.md)"
-                                     : "");
+                                 errno == EACCES ? " (install the udev rule 70-vsculpt.rules and "
+                                                   "replug it, see docs/devices.md)"
+                                                 : "");
                 continue;
             }
             warned.erase(node.node);

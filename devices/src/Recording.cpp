@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 #include <string_view>
 
@@ -112,7 +113,20 @@ Recording parseRecording(const std::string& whole, const std::string& source) {
     std::string line;
     size_t lineNo = 0;
     auto fail = [&](const std::string& why) -> void {
-        throw RecordingError(source + ":" + std::to_string(lineNo) + ": " + why);
+        // Words quoted from a damaged line may hold control bytes (a NUL cut the message
+        // short): escaped, as scripts' messages show them.
+        std::string shown;
+        for (const char c : why) {
+            const auto u = static_cast<unsigned char>(c);
+            if (u < 0x20 || u == 0x7f) {
+                char esc[8];
+                std::snprintf(esc, sizeof esc, "\\x%02x", u);
+                shown += esc;
+            } else {
+                shown += c;
+            }
+        }
+        throw RecordingError(source + ":" + std::to_string(lineNo) + ": " + shown);
     };
     bool header = false;
     // Every line the writer writes ends with '\n': a last line without one was cut short.
@@ -130,8 +144,15 @@ Recording parseRecording(const std::string& whole, const std::string& source) {
         if (!line.empty() && line.back() == '\r') line.pop_back();
         if (line.empty() || line[0] == '#') continue;
         if (!header) {
-            if (line != kMagic)
+            if (line != kMagic) {
+                // Another version of the format: say so, rather than "not a recording".
+                const std::string word = "vsculpt-recording ";
+                if (line.rfind(word, 0) == 0)
+                    fail("recording format version '" + line.substr(word.size()) +
+                         "': this vsculpt reads version " +
+                         std::string(kMagic).substr(word.size()) + " only");
                 fail("not a vsculpt device recording (expected '" + std::string(kMagic) + "')");
+            }
             header = true;
             continue;
         }
@@ -179,6 +200,11 @@ Recording parseRecording(const std::string& whole, const std::string& source) {
         DeviceEvent e;
         {
             const auto r = std::from_chars(first.data(), first.data() + first.size(), e.timeNs);
+            const bool digits = first.find_first_not_of("-0123456789") == std::string::npos;
+            if (r.ec == std::errc::result_out_of_range && digits)
+                fail("timestamp " + first + " ns out of range (at most " +
+                     std::to_string(std::numeric_limits<decltype(e.timeNs)>::max()) +
+                     " either way)");
             if (r.ec != std::errc() || r.ptr != first.data() + first.size())
                 fail(
                     "expected 'meta', 'device' or an event '<timeNs> <device> <kind> [hex]', got "

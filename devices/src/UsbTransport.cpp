@@ -236,10 +236,11 @@ struct UsbTransport::Impl {
 
         int r = libusb_open(dev, &d->handle);
         if (r != 0) {
-            warnOnce(dev, label + ": cannot open: " + libusb_strerror(r) +
-                              (r == LIBUSB_ERROR_ACCESS
-                                   ? " (install configs/70-vsculpt.rules, see docs/devices.md)"
-                                   : ""));
+            warnOnce(dev,
+                     label + ": cannot open: " + libusb_strerror(r) +
+                         (r == LIBUSB_ERROR_ACCESS ? " (install the udev rule 70-vsculpt.rules and "
+                                                     "replug it, see docs/devices.md)"
+                                                   : ""));
             return;
         }
         // HID through libusb takes the device from the kernel driver; libusb re-attaches it on

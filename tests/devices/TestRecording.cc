@@ -93,13 +93,23 @@ TEST(Recording, BadFilesAreRefusedWithFileAndLine) {
                 "r.vsrec:2: bad product id 'zz'");
     expectError(head + "12 m report 00\ndevice n spacemouse hidraw 1 2\n",
                 "r.vsrec:4: device after the first event");
+    // Found by QA: another format version, timestamps out of range and control bytes in a
+    // damaged line are named as such (a NUL cut the message short).
+    expectError("vsculpt-recording 2\n",
+                "r.vsrec:1: recording format version '2': this vsculpt reads version 1 only");
+    expectError(head + "99999999999999999999 m report 00\n",
+                "r.vsrec:3: timestamp 99999999999999999999 ns out of range (at most "
+                "9223372036854775807 either way)");
+    expectError(std::string("vsculpt-recording 1\ndevice m space\0mouse hidraw 1 2\n", 52),
+                "r.vsrec:2: unknown driver 'space\\x00mouse'");
 }
 
 // A recording an editor saved with a UTF-8 byte order mark is still a recording, read the
 // same (found by QA: it was taken for a script, "unknown command 'vsculpt-recording'").
 TEST(Recording, AByteOrderMarkFirstIsSkipped) {
-    const std::string text = "vsculpt-recording 1\ndevice m spacemouse hidraw 256f c635\n"
-                             "10 m arrived 6f2535c6\n20 m report 0301000200\n";
+    const std::string text =
+        "vsculpt-recording 1\ndevice m spacemouse hidraw 256f c635\n"
+        "10 m arrived 6f2535c6\n20 m report 0301000200\n";
     const Recording plain = parseRecording(text, "r.vsrec");
     const Recording marked = parseRecording("\xEF\xBB\xBF" + text, "r.vsrec");
     ASSERT_EQ(marked.events.size(), plain.events.size());

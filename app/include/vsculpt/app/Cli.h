@@ -11,4 +11,9 @@ namespace vsculpt::app {
 /// 0 success, 1 runtime failure, 2 bad input (arguments, config). Messages go to `out`/`err`.
 int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& err);
 
+/// `code`, unless what was written to standard output (std::cout, stdio) did not all reach it
+/// (a full disk, a closed descriptor): then 1, after saying why on standard error, as Unix
+/// tools do, so `vsculpt info > /dev/full` fails instead of losing its output silently.
+int standardOutputChecked(int code);
+
 }  // namespace vsculpt::app

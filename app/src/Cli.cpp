@@ -22,6 +22,9 @@
 #include <filesystem>
 #include <iostream>
 #include <ostream>
+#include <iterator>
+#include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -87,6 +90,16 @@ CLI::Validator orWord(const std::string& word, CLI::Validator other) {
 }  // namespace
 
 int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
+    // `vsculpt help [SUBCOMMAND]`, as git and cargo take it: the subcommand's --help (found by
+    // QA: "SCRIPT is required").
+    std::vector<const char*> helpArgs;
+    if (argc >= 2 && argc <= 3 && std::string(argv[1]) == "help") {
+        helpArgs = {argv[0]};
+        if (argc == 3) helpArgs.push_back(argv[2]);
+        helpArgs.push_back("--help");
+        argc = int(helpArgs.size());
+        argv = helpArgs.data();
+    }
     CLI::App cli{
         "vsculpt - immersive virtual-sculpting modeler.\n"
         "Without a subcommand it opens the sculpting window (docs/window.md: mouse and keys\n"
@@ -283,8 +296,12 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
 
     // --config is the program's, accepted before or after any subcommand (and never ignored):
     // an option a subcommand does not know falls through to the program.
-    for (CLI::App* sub : {infoCmd, playCmd, devicesCmd, recordCmd, sketchCmd, renderCmd})
+    for (CLI::App* sub : {infoCmd, playCmd, devicesCmd, recordCmd, sketchCmd, renderCmd}) {
         sub->fallthrough();
+        sub->footer(
+            "The program's options (--config, -q, -v) go before or after the subcommand; "
+            "`vsculpt --help` lists them.");
+    }
 
     try {
         cli.parse(argc, argv);
@@ -293,9 +310,29 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         // every other message ("vsculpt: error: ..."), exit code 2.
         if (e.get_exit_code() == 0) return cli.exit(e, out, err);
         const int code = 2;
-        err << "vsculpt: error: " << e.what() << "\nRun with --help for more information.\n";
         // A mistyped subcommand or option (not a bad value of a real one): name the nearest.
         const bool unknownWord = dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr;
+        if (unknownWord) {
+            // The words in the order they were typed (CLI11 lists them last first), and the
+            // likely reason when they are more scripts for play.
+            const std::string what = e.what();
+            const size_t colon = what.find(": ");
+            std::istringstream listed(colon == std::string::npos ? "" : what.substr(colon + 2));
+            std::set<std::string> extra{std::istream_iterator<std::string>(listed), {}};
+            std::string words;
+            bool scripts = false;
+            for (int i = 1; i < argc; ++i)
+                if (extra.count(argv[i])) {
+                    words += std::string(words.empty() ? "" : " ") + argv[i];
+                    const std::string ext = std::filesystem::path(argv[i]).extension().string();
+                    scripts |= ext == ".vsc" || ext == ".vsrec";
+                }
+            err << "vsculpt: error: unexpected argument(s): " << (words.empty() ? what : words)
+                << (scripts && *playCmd ? " (vsculpt play takes one SCRIPT a run)" : "")
+                << "\nRun with --help for more information.\n";
+        } else {
+            err << "vsculpt: error: " << e.what() << "\nRun with --help for more information.\n";
+        }
         if (unknownWord) {
             for (int i = 1; i < argc; ++i) {
                 const std::string arg = argv[i];

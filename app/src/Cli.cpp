@@ -116,10 +116,18 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         "with access \"libusb\")."};
     cli.set_version_flag("--version", "vsculpt 0.1.0");
     std::string configPath = core::defaultConfigPath().string();
+    // `--project "$DIR"` or `--config "$CFG"` with the variable unset would otherwise run
+    // without the project or the settings meant (found by QA: the defaults, in silence).
+    const CLI::Validator notEmpty(
+        [](std::string& value) -> std::string {
+            return value.empty() ? "must not be empty (an unset shell variable?)" : "";
+        },
+        "");
     cli.add_option("--config", configPath,
                    "Config file (JSON with comments; docs/config.md). Default: $VSCULPT_CONFIG, "
                    "else $XDG_CONFIG_HOME/vsculpt/sculpt.json (~/.config/vsculpt/sculpt.json) if "
-                   "it exists, else the built-in defaults");
+                   "it exists, else the built-in defaults")
+        ->check(notEmpty);
 
     bool quiet = false;
     int verbose = 0;
@@ -143,12 +151,6 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     cli.add_flag("--hidden", window.hidden, "Do not show the window (automated runs)");
     cli.add_flag("!--no-devices", window.devices,
                  "Do not open trackers, 3D mice or headsets (mouse and keyboard only)");
-    // `--project "$DIR"` with DIR unset would otherwise run without the project meant.
-    const CLI::Validator notEmpty(
-        [](std::string& value) -> std::string {
-            return value.empty() ? "must not be empty (an unset shell variable?)" : "";
-        },
-        "");
     auto* windowProject =
         cli.add_option(
                "--project", window.projectDir,

@@ -79,10 +79,14 @@ std::string outputClash(const std::vector<std::pair<std::string, std::string>>& 
                    ": that is the script being played; it would be overwritten";
         if (!config.empty() && p == resolvedPath(config))
             return option + " " + path + ": that is the --config file; it would be overwritten";
-        if (!projectDir.empty() && p.parent_path() == resolvedPath(projectDir))
+        if (!projectDir.empty() && p.parent_path() == resolvedPath(projectDir)) {
+            const fs::path exports = fs::path(projectDir) / "exports";
+            std::error_code ec;
             return option + " " + path + ": inside the project folder " + projectDir +
                    ", which holds the project's own files (write it to another folder, such as " +
-                   (fs::path(projectDir) / "exports").string() + ")";
+                   exports.string() +
+                   (fs::is_directory(exports, ec) ? "" : ", made first with mkdir") + ")";
+        }
     }
     return "";
 }

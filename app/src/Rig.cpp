@@ -311,7 +311,6 @@ std::string Rig::projectSummary() const {
     if (s.recoveredEdits() > 0)
         o << ": recovered " << s.recoveredEdits()
           << " edit(s) from the journal since the last save";
-    if (!s.recoveryWarning().empty()) o << "\n" << s.recoveryWarning();
     return o.str();
 }
 

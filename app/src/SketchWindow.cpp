@@ -101,6 +101,8 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
         return 2;
     }
     logLines(spdlog::level::info, rig->projectSummary());
+    // What recovery dropped is a warning, as `play` says it (found by QA: info lines).
+    logLines(spdlog::level::warn, rig->session().recoveryWarning());
     render::SketchCanvas canvas;
     // The headset sees the sculpture in stereo while the designer sketches on the desktop.
     std::unique_ptr<render::Viewer> headset;

@@ -115,6 +115,8 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
     }
     // Recovery is reported where the user looks: on the terminal and in the title bar.
     logLines(spdlog::level::info, rig->projectSummary());
+    // What recovery dropped is a warning, as `play` says it (found by QA: info lines).
+    logLines(spdlog::level::warn, rig->session().recoveryWarning());
     std::string message = rig->recoveryMessage();
     // The rig's studio can change (save as, new project): these always fetch the current one.
     auto studioNow = [&]() -> Studio& { return rig->studio(); };

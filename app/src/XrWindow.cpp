@@ -133,6 +133,8 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
         }
     }
     logLines(spdlog::level::info, rig->projectSummary());
+    // What recovery dropped is a warning, as `play` says it (found by QA: info lines).
+    logLines(spdlog::level::warn, rig->session().recoveryWarning());
     try {
         xr->startSession(glxOf(viewer->nativeGl()));
     } catch (const std::exception& e) {

@@ -873,8 +873,10 @@ void validateConfig(const SculptConfig& c) {
         s << v;
         return s.str();
     };
-    if (!(std::isfinite(c.d4Mm) && c.d4Mm > 0 && c.d4Mm <= 1e4))
-        fail("tools.d4_mm", "must be a diameter in mm, > 0 and <= 10000 (got " + num(c.d4Mm) + ")");
+    // At least 10 µm: 1e-320 passed "> 0" and gave a sphere of no triangles (found by QA).
+    if (!(std::isfinite(c.d4Mm) && c.d4Mm >= 0.01 && c.d4Mm <= 1e4))
+        fail("tools.d4_mm",
+             "must be a diameter in mm, >= 0.01 and <= 10000 (got " + num(c.d4Mm) + ")");
     if (!(std::isfinite(c.growth) && c.growth > 1 && c.growth <= 4))
         fail("tools.growth", "must be > 1 (levels grow) and <= 4 (got " + num(c.growth) + ")");
     // A tool sphere of radius D/2 contains a lattice vertex wherever it is iff

@@ -901,7 +901,12 @@ void takeRecords(RecoveredProject& out, const fs::path& path, bool isCurrent, ui
     try {
         scan = scanJournal(path);
     } catch (const ProjectError& e) {
-        if (isCurrent) throw;  // refused rather than later overwritten by the writer
+        // Refused rather than later overwritten by the writer; the way out named (found by QA:
+        // a project refused without a word on what to do).
+        if (isCurrent)
+            throw ProjectError(std::string(e.what()) + "; the project was not opened and is left " +
+                               "as it is (move " + path.filename().string() +
+                               " out of the folder to open the project without it)");
         out.warnings.push_back(std::string(e.what()) + "; its records were not used");
         return;
     }

@@ -285,6 +285,7 @@ TEST(Config, BadValuesNameTheKeyAndReason) {
         {R"({"tolos": {}})", "test.json: tolos: unknown key"},
         {R"({"tools": {"d4_mm": "ten"}})", "tools.d4_mm: expected a number"},
         {R"({"tools": {"d4_mm": -1}})", "tools.d4_mm: must be a diameter"},
+        {R"({"tools": {"d4_mm": 1e-320}})", "tools.d4_mm: must be a diameter in mm, >= 0.01"},
         {R"({"tools": {"levels": 5}})", "tools.levels: vsculpt has exactly 7"},
         {R"({"tools": {"growth": 1.0}})", "tools.growth: must be > 1"},
         {R"({"tools": {"lattice_spacing_over_diameter": 0.7}})",

@@ -733,7 +733,8 @@ TEST(Project, ProjectFilesThatAreNotRegularFilesAreNeverRead) {
         readProject(dir.path);
         ADD_FAILURE() << "a pipe read as a journal";
     } catch (const ProjectError& e) {
-        EXPECT_EQ(std::string(e.what()), journalPath(dir.path).string() + ": not a regular file");
+        EXPECT_EQ(std::string(e.what()).substr(0, journalPath(dir.path).string().size() + 21),
+                  journalPath(dir.path).string() + ": not a regular file;");
     }
 }
 
@@ -1017,6 +1018,25 @@ TEST(Project, NothingUsableIsAnErrorNamingBothFiles) {
                                                                  "version 02"),
                   std::string::npos)
             << m;
+    }
+}
+
+// A journal.vjl that is not a journal is refused (the writer would overwrite it), and the
+// message says what to do (found by QA: no way out was named).
+TEST(Project, AForeignJournalIsRefusedWithTheWayOut) {
+    TempDir dir;
+    Sculptor s;
+    s.strokeSavedTwice(dir.path);
+    writeFile(journalPath(dir.path), "#!/bin/sh\necho not a journal\n");
+    try {
+        readProject(dir.path);
+        FAIL() << "no error";
+    } catch (const ProjectError& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  journalPath(dir.path).string() +
+                      ": byte 0: not a vsculpt journal (bad magic); the project was not opened and "
+                      "is left as it is (move journal.vjl out of the folder to open the project "
+                      "without it)");
     }
 }
 

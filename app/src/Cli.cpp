@@ -21,8 +21,8 @@
 #include <exception>
 #include <filesystem>
 #include <iostream>
-#include <ostream>
 #include <iterator>
+#include <ostream>
 #include <set>
 #include <sstream>
 #include <string>
@@ -149,8 +149,9 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     cli.add_option("--shot", window.shotPath,
                    "Save the last frame as PNG (after --frames N frames; alone: one frame)");
     cli.add_flag("--hidden", window.hidden, "Do not show the window (automated runs)");
-    cli.add_flag("!--no-devices", window.devices,
-                 "Do not open trackers, 3D mice or headsets (mouse and keyboard only)");
+    cli.add_flag_callback(
+        "--no-devices", [&window] { window.devices = false; },
+        "Do not open trackers, 3D mice or headsets (mouse and keyboard only)");
     auto* windowProject =
         cli.add_option(
                "--project", window.projectDir,
@@ -193,7 +194,7 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     playCmd->add_flag("--check", play.check,
                       "After every edit, compare the incremental mesh with a full rebuild");
     playCmd->add_option("--threads", play.threads, "Worker threads (default: all cores)")
-        ->check(CLI::Range(1, 256));
+        ->check(numberIn(1, 256, "threads"));
     playCmd
         ->add_option("--project", play.projectDir,
                      "Project folder: opened (and recovered) if it exists, created otherwise; "
@@ -212,7 +213,8 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
         ->type_name("MM|detail")
         ->check(orWord("detail", numberIn(0, PlayOptions::kMaxExportSpacingMm, "mm",
                                           /*loOpen=*/true)));
-    playCmd->add_flag("!--no-progress", play.progress, "No progress bar");
+    playCmd->add_flag_callback(
+        "--no-progress", [&play] { play.progress = false; }, "No progress bar");
     playCmd->add_option("--shot", play.shotPath,
                         "Render the final frame with OpenGL to a PNG (needs a display; "
                         "use xvfb-run on machines without one)");
@@ -261,8 +263,9 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     sketchCmd->add_flag("--headset", sketchOpts.headset,
                         "Also show the sculpture in side-by-side stereo for the headset (full "
                         "screen on the config's render.fullscreen_monitor)");
-    sketchCmd->add_flag("!--no-devices", sketchOpts.devices,
-                        "Do not open pen tablets or other devices (mouse and keyboard only)");
+    sketchCmd->add_flag_callback(
+        "--no-devices", [&sketchOpts] { sketchOpts.devices = false; },
+        "Do not open pen tablets or other devices (mouse and keyboard only)");
 
     RenderOptions still;
     CLI::App* renderCmd = cli.add_subcommand(
@@ -274,7 +277,7 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
     renderCmd->add_option("--out", still.outPath, "PNG to write")->required();
     renderCmd->add_option("--size", still.size, "Image size WIDTHxHEIGHT")->capture_default_str();
     renderCmd->add_option("--samples", still.samples, "Ambient-occlusion rays per pixel")
-        ->check(CLI::Range(1, 1024))
+        ->check(numberIn(1, 1024, "rays"))
         ->capture_default_str();
     renderCmd
         ->add_option("--spacing", still.spacingMm,
@@ -293,8 +296,9 @@ int runCli(int argc, const char* const* argv, std::ostream& out, std::ostream& e
                      "Render N frames of one turn about the vertical axis (one framing), to "
                      "--out with the frame number: a run of '#' in the name, else -NNN before "
                      "the extension (turn.png: turn-000.png ...)")
-        ->check(CLI::Range(1, 3600));
-    renderCmd->add_flag("!--no-progress", still.progress, "No progress bar");
+        ->check(numberIn(1, 3600, "frames"));
+    renderCmd->add_flag_callback(
+        "--no-progress", [&still] { still.progress = false; }, "No progress bar");
 
     // --config is the program's, accepted before or after any subcommand (and never ignored):
     // an option a subcommand does not know falls through to the program.

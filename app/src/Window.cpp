@@ -160,6 +160,10 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
     // another region (after a zoom change, once the mesher has published the new region's
     // preview), not when the zoom is asked for (the old mesh is still on show then).
     core::GridRegion framedRegion = sessionNow().published()->region;
+    // Where the object stood when the camera last framed it: moving the object (the middle
+    // drag, a 3D mouse) moves it in the view, where framing its current pose took the camera
+    // along and nothing seemed to move (found by QA). Rotations still turn it in place.
+    Vec3 framedTranslation = sessionNow().objectPose().translation;
 
     // The region to zoom into: the surface point under the pointer, picked with Embree on the
     // mesh on show (built only when a zoom is asked for); the tool centre when nothing is hit.
@@ -386,13 +390,25 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         if (!(shown->region == framedRegion) || frame % 30 == 29) {
             const Aabb b = shown->bounds;
             if (!b.empty()) frameBox = b;
+            // A new region (a zoom) is framed where the object is now.
+            if (!(shown->region == framedRegion))
+                framedTranslation = session.objectPose().translation;
             framedRegion = shown->region;
+        }
+        // The box the camera frames, in object space: shifted back by how far the object was
+        // moved since, so that the camera stays where it was.
+        Aabb cameraBox = frameBox;
+        if (const Vec3 moved = session.objectPose().translation - framedTranslation;
+            moved != Vec3(0) && !cameraBox.empty()) {
+            const Vec3 back = glm::inverse(session.objectPose().rotation) * moved;
+            cameraBox.min -= back;
+            cameraBox.max -= back;
         }
         // A headset with a tracked head station moves the eyes; otherwise the camera frames
         // the sculpture.
         viewer->setTrackedHead(devices ? devices->worldFromHead(devices::monotonicNowNs())
                                        : std::optional<glm::dmat4>());
-        const render::FrameStats st = viewer->draw(worldFromObject, frameBox, tool, mode, display,
+        const render::FrameStats st = viewer->draw(worldFromObject, cameraBox, tool, mode, display,
                                                    lens, uiLayer ? &uiImage : nullptr);
         ++frame;
         const bool last = o.frames > 0 && frame >= size_t(o.frames);

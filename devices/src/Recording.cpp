@@ -227,6 +227,10 @@ Recording parseRecording(const std::string& whole, const std::string& source) {
             e.bytes.push_back(static_cast<uint8_t>(hi * 16 + lo));
         }
         if (e.kind == DeviceEventKind::Report && e.bytes.empty()) fail("a report without bytes");
+        // Only reports and arrivals (the USB ids) carry bytes: others with bytes are damaged.
+        if (!e.bytes.empty() && e.kind != DeviceEventKind::Report &&
+            e.kind != DeviceEventKind::Arrived)
+            fail("a '" + kind + "' event carries no bytes");
         rec.events.push_back(std::move(e));
     }
     if (!header) throw RecordingError(source + ": empty file, not a vsculpt device recording");

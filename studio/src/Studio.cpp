@@ -710,6 +710,10 @@ bool Studio::apply(const ScriptCommand& c) {
             applySketch(c);
             return false;
         case K::Save:
+            // Said, not skipped in silence (found by QA): the test engineer expects a file.
+            if (!mSession->projectDir() && mNotice)
+                mNotice("line " + std::to_string(c.line) +
+                        ": save: this session has no project (--project DIR): nothing saved");
             save();
             return false;
         case K::Import: {

@@ -689,3 +689,40 @@ TEST(XrPanelUi, ThePensTriggerClicksTheButtonItPointsAt) {
     EXPECT_TRUE(frame().empty());
     EXPECT_FALSE(panelUi.point(h, true));
 }
+
+// Found by QA: a middle drag moved the object, and the camera, framing the object's current
+// pose, moved with it: nothing seemed to move. The sculpture now moves across the view with
+// the drag (its leftmost pixel on the middle row follows the pointer to the right).
+TEST(WindowUi, AMiddleDragMovesTheSculptureAcrossTheView) {
+    auto leftEdge = [](const render::Image& img) {
+        const int y = img.height / 2;
+        for (int x = 0; x < img.width; ++x)
+            if (!near(img.pixel(x, y),
+                      {render::kBackground[0], render::kBackground[1], render::kBackground[2]}, 12))
+                return x;
+        return img.width;
+    };
+    auto run = [&](bool drag) {
+        app::WindowOptions o = scratchWindow(10);
+        render::Image img;
+        o.lastFrame = &img;
+        o.onFrame = [&](size_t frame, const app::UiState&, std::vector<InputEvent>& inject) {
+            // The pointer stays right of the sculpture's left edge, so the tool drawn under it
+            // never is the leftmost pixel.
+            if (frame == 3) inject.push_back(cursor(600, 320));
+            if (drag && frame == 4)
+                inject.push_back(
+                    {InputEvent::Kind::MouseButton, GLFW_MOUSE_BUTTON_MIDDLE, true, 0, 0});
+            if (frame == 5) inject.push_back(cursor(700, 320));
+            if (drag && frame == 6)
+                inject.push_back(
+                    {InputEvent::Kind::MouseButton, GLFW_MOUSE_BUTTON_MIDDLE, false, 0, 0});
+        };
+        std::ostringstream out, err;
+        EXPECT_EQ(app::runWindow(o, out, err), 0) << err.str();
+        return leftEdge(img);
+    };
+    const int still = run(false), moved = run(true);
+    ASSERT_LT(still, 480) << "no sculpture on the middle row";
+    EXPECT_GT(moved - still, 40) << "left edge " << still << " -> " << moved;
+}

@@ -97,6 +97,7 @@ TEST(Recording, BadFilesAreRefusedWithFileAndLine) {
     // damaged line are named as such (a NUL cut the message short).
     expectError("vsculpt-recording 2\n",
                 "r.vsrec:1: recording format version '2': this vsculpt reads version 1 only");
+    expectError(head + "12 m stalled abcd\n", "r.vsrec:3: a 'stalled' event carries no bytes");
     expectError(head + "99999999999999999999 m report 00\n",
                 "r.vsrec:3: timestamp 99999999999999999999 ns out of range (at most "
                 "9223372036854775807 either way)");

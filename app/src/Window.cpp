@@ -167,17 +167,23 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
 
     // The region to zoom into: the surface point under the pointer, picked with Embree on the
     // mesh on show (built only when a zoom is asked for); the tool centre when nothing is hit.
-    auto zoomTarget = [&](const Vec3& fallback) {
+    auto zoomTargetAt = [&](double x, double y, const Vec3& fallback) {
         Vec3 origin, dir;
-        viewer->pixelRay(cursorX, cursorY, origin, dir);
+        viewer->pixelRay(x, y, origin, dir);
         const glm::dmat4 objectFromWorld = glm::inverse(worldFromObject);
         const ToolPick pick = pickTool(sessionNow(), Vec3(objectFromWorld * glm::dvec4(origin, 1)),
                                        glm::normalize(Vec3(objectFromWorld * glm::dvec4(dir, 0))),
                                        0, 0, Vec3(0, 0, -1));
         return pick.surfaceHit ? *pick.surfaceHit : fallback;
     };
-    // Where the tool last was over the sculpture (not over the UI): the UI's zoom centre.
-    Vec3 lastSculptPoint(0.0);
+    auto zoomTarget = [&](const Vec3& fallback) {
+        return zoomTargetAt(cursorX, cursorY, fallback);
+    };
+    // The last surface point the tool touched outside the UI: the palette's zoom centre. Only
+    // a surface point: the pointer crosses empty space on its way to the palette, and a zoom
+    // centred there showed a clipped or empty view (found by QA). Until the tool touches the
+    // clay, the surface point at the middle of the view.
+    std::optional<Vec3> lastSculptPoint;
     auto overUi = [&] {
         return uiLayer && (uiLayer->wantsMouse() || uiState.covers(uiPointer.x, uiPointer.y));
     };
@@ -209,7 +215,10 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
             const Vec3 toolObject = glm::inverse(worldFromObject) * glm::dvec4(toolWorld, 1);
             try {
                 // The palette's actions, as the headset's panel applies them.
-                if (applySculptAction(a, studio, ui, lastSculptPoint)) return;
+                if (!lastSculptPoint)
+                    lastSculptPoint = zoomTargetAt(0.5 * viewer->width(), 0.5 * viewer->height(),
+                                                   0.5 * (frameBox.min + frameBox.max));
+                if (applySculptAction(a, studio, ui, *lastSculptPoint)) return;
                 if (a == "quit")
                     running = false;
                 else if (a == "help")
@@ -362,7 +371,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         const double toolRadius = 0.5 * level.diameterMm;
         ToolPick pick =
             pickTool(session, oObj, dObj, toolRadius, depthInDiameters * level.diameterMm, downObj);
-        if (!overUi()) lastSculptPoint = pick.surfaceHit ? *pick.surfaceHit : pick.toolCentre;
+        if (!overUi() && pick.surfaceHit) lastSculptPoint = *pick.surfaceHit;
         if (penWorld) {
             toolWorld = *penWorld;  // DeviceInput already moved the tool with every sample
             pick = toolCues(session, Vec3(objectFromWorld * glm::dvec4(toolWorld, 1)), toolRadius,
@@ -449,6 +458,10 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         r.mirror = s.mirror();
         r.size = s.size();
         r.zoom = s.zoom();
+        {
+            const core::Aabb box = s.region().box();
+            r.zoomCentreMm = 0.5 * (box.min + box.max);
+        }
         r.skeletons = s.sculpture().counts().lattice;
         r.steps = rig->studio().stepCount();
         r.message = message;

@@ -726,3 +726,24 @@ TEST(WindowUi, AMiddleDragMovesTheSculptureAcrossTheView) {
     ASSERT_LT(still, 480) << "no sculpture on the middle row";
     EXPECT_GT(moved - still, 40) << "left edge " << still << " -> " << moved;
 }
+
+// Found by QA: the palette's zoom buttons centred on where the pointer last was, in empty
+// space on its way to the palette: the view came out clipped or empty. They centre on the last
+// surface point the tool touched.
+TEST(WindowUi, ThePalettesZoomCentresOnTheLastSurfacePointNotOnEmptySpace) {
+    app::WindowOptions o = scratchWindow(14);
+    app::WindowOptions::Report report;
+    o.report = &report;
+    app::UiRect where;
+    o.onFrame = [&](size_t frame, const app::UiState& ui, std::vector<InputEvent>& inject) {
+        if (frame == 3) inject.push_back(cursor(480, 300));  // over the sphere
+        if (frame == 5) inject.push_back(cursor(900, 80));   // empty space
+        clickOn("button:zoom 3", 7, frame, ui, inject, where);
+    };
+    std::ostringstream out, err;
+    ASSERT_EQ(app::runWindow(o, out, err), 0) << err.str();
+    EXPECT_EQ(report.zoom, 3);
+    // On the initial sphere's surface (radius 40 mm), not out in the air.
+    EXPECT_NEAR(glm::length(report.zoomCentreMm), 40.0, 2.0)
+        << report.zoomCentreMm.x << " " << report.zoomCentreMm.y << " " << report.zoomCentreMm.z;
+}

@@ -51,6 +51,7 @@ struct WindowOptions {
         studio::ToolKind tool = studio::ToolKind::Add;
         core::MirrorAxis mirror = core::MirrorAxis::None;
         int size = 0, zoom = 0;
+        core::Vec3 zoomCentreMm{0.0};     ///< the centre of the zoom region (object space)
         size_t skeletons = 0, steps = 0;  ///< skeletons: the clay placed (lattice skeletons)
         std::string message;
         UiState ui;                     ///< the UI's state and rectangles after the last frame

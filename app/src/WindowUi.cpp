@@ -183,10 +183,12 @@ void dialog(UiState& state, std::vector<UiAction>& actions) {
     if (exportDialog || importDialog) {
         // Export: the file's frame; import: the frame the file was written in.
         ImGui::SetNextItemWidth(140);
-        ImGui::Combo("up axis", &state.exportUp, "format default\0+Y up\0+Z up\0");
+        ImGui::Combo("up axis", exportDialog ? &state.exportUp : &state.importUp,
+                     "format default\0+Y up\0+Z up\0");
         ImGui::SameLine();
         ImGui::SetNextItemWidth(140);
-        ImGui::Combo("units", &state.exportUnits, "format default\0mm\0cm\0m\0");
+        ImGui::Combo("units", exportDialog ? &state.exportUnits : &state.importUnits,
+                     "format default\0mm\0cm\0m\0");
     }
     if (importDialog) {
         ImGui::SetNextItemWidth(140);
@@ -218,19 +220,7 @@ void dialog(UiState& state, std::vector<UiAction>& actions) {
     const bool cancel =
         button(state, "cancel", false, "dialog cancel") || ImGui::IsKeyPressed(GLFW_KEY_ESCAPE);
     if (ok || enter) {
-        UiAction a{exportDialog ? "export" : importDialog ? "import" : "save_as", state.pathField};
-        if (state.exportUp > 0)
-            a.exportOptions.up = state.exportUp == 1 ? core::UpAxis::Y : core::UpAxis::Z;
-        if (state.exportUnits > 0)
-            a.exportOptions.units = state.exportUnits == 1   ? core::LengthUnit::Millimetre
-                                    : state.exportUnits == 2 ? core::LengthUnit::Centimetre
-                                                             : core::LengthUnit::Metre;
-        a.importOptions.up = a.exportOptions.up;
-        if (a.exportOptions.units)
-            a.importOptions.mmPerUnit = core::mmPerUnit(*a.exportOptions.units);
-        if (state.importFitMm > 0) a.importOptions.fitMm = state.importFitMm;
-        a.importLevel = state.importLevel;
-        actions.push_back(a);
+        actions.push_back(dialogAction(state));
     } else if (cancel) {
         state.dialog = UiState::Dialog::None;
         state.dialogError.clear();
@@ -657,6 +647,32 @@ bool applySharedUiAction(const UiAction& a, Rig& rig, UiState& state, const core
         if (n == "save_preferences") state.preferencesNote = message;
     }
     return true;
+}
+
+UiAction dialogAction(const UiState& state) {
+    const bool exporting = state.dialog == UiState::Dialog::Export;
+    const bool importing = state.dialog == UiState::Dialog::Import;
+    UiAction a{exporting ? "export" : importing ? "import" : "save_as", state.pathField};
+    const int upChoice = importing ? state.importUp : state.exportUp;
+    const int unitChoice = importing ? state.importUnits : state.exportUnits;
+    std::optional<core::UpAxis> up;
+    std::optional<core::LengthUnit> units;
+    if (upChoice > 0) up = upChoice == 1 ? core::UpAxis::Y : core::UpAxis::Z;
+    if (unitChoice > 0)
+        units = unitChoice == 1   ? core::LengthUnit::Millimetre
+                : unitChoice == 2 ? core::LengthUnit::Centimetre
+                                  : core::LengthUnit::Metre;
+    if (exporting) {
+        a.exportOptions.up = up;
+        a.exportOptions.units = units;
+    }
+    if (importing) {
+        a.importOptions.up = up;
+        if (units) a.importOptions.mmPerUnit = core::mmPerUnit(*units);
+        if (state.importFitMm > 0) a.importOptions.fitMm = state.importFitMm;
+        a.importLevel = state.importLevel;
+    }
+    return a;
 }
 
 }  // namespace vsculpt::app

@@ -305,3 +305,29 @@ TEST(HelpOverlay, ListsEveryBindingAndTheMouse) {
 }
 
 }  // namespace
+
+// Found by QA: the import dialog showed and used the export dialog's last up axis and units,
+// so an import after a +Z / cm export came in ten times too large. Each dialog has its own.
+TEST(Preferences, TheImportAndExportDialogsKeepTheirOwnFrames) {
+    app::UiState state;
+    state.pathField = "/tmp/x.stl";
+    state.exportUp = 2;     // +Z
+    state.exportUnits = 2;  // cm
+    state.dialog = app::UiState::Dialog::Import;
+    const app::UiAction plain = app::dialogAction(state);
+    EXPECT_EQ(plain.name, "import");
+    EXPECT_FALSE(plain.importOptions.up.has_value());
+    EXPECT_FALSE(plain.importOptions.mmPerUnit.has_value());
+    state.importUp = 1;     // +Y
+    state.importUnits = 3;  // m
+    const app::UiAction chosen = app::dialogAction(state);
+    ASSERT_TRUE(chosen.importOptions.up.has_value());
+    EXPECT_EQ(*chosen.importOptions.up, core::UpAxis::Y);
+    ASSERT_TRUE(chosen.importOptions.mmPerUnit.has_value());
+    EXPECT_EQ(*chosen.importOptions.mmPerUnit, 1000.0);
+    state.dialog = app::UiState::Dialog::Export;
+    const app::UiAction exported = app::dialogAction(state);
+    EXPECT_EQ(exported.name, "export");
+    EXPECT_EQ(exported.exportOptions.up, core::UpAxis::Z);
+    EXPECT_EQ(exported.exportOptions.units, core::LengthUnit::Centimetre);
+}

@@ -71,6 +71,10 @@ struct UiState {
     bool refocusField = false;  ///< give the path field the keyboard again (after an error)
     int exportUp = 0;           ///< 0: the format's default, 1: +Y, 2: +Z
     int exportUnits = 0;        ///< 0: the format's default, 1: mm, 2: cm, 3: m
+    /// The import dialog's own (a file's frame is not the last export's: found by QA, an
+    /// import after a +Z / cm export came in ten times too large).
+    int importUp = 0;
+    int importUnits = 0;
     std::vector<std::filesystem::path> recentList;  ///< refreshed when the list opens
     std::string preferencesNote;                    ///< where Save preferences wrote
 
@@ -103,6 +107,10 @@ struct SculptUiView {
 /// The session's part of the view: tool, mirror, size, the sizes the zoom offers, zoom,
 /// skeletons and project (the caller adds frame time, message, bindings and margin).
 SculptUiView sculptUiViewOf(const studio::Session& session, const studio::Interaction& interaction);
+
+/// What the open dialog (export, import or save as) asks for when confirmed: its path, and the
+/// export's or the import's own up axis, units (and for an import its fit and clay level).
+UiAction dialogAction(const UiState& state);
 
 /// The sculpting window's UI for one frame (between UiLayer::beginFrame and endFrame):
 /// the palette along the bottom, the status panel at the top left, and the shared parts.

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/app/ExportInBackground.h"
 
+#include "vsculpt/core/ExportDxf.h"
 #include "vsculpt/core/WorkerPool.h"
 #include "vsculpt/studio/Session.h"
 
@@ -12,6 +13,21 @@
 
 namespace vsculpt::app {
 
+void writeSculptureFile(const core::Mesh& mesh, const std::filesystem::path& path,
+                        const core::ExportOptions& options,
+                        const std::vector<std::vector<core::Vec3>>& curves) {
+    if (path.extension() == ".dxf" && !curves.empty()) {
+        // CAD gets the sketch too: the sculpture as 3DFACEs, the curves as polylines.
+        core::DxfOptions d;
+        d.surfaceLayer = "sculpture";
+        d.curveLayer = "sketch";
+        d.frame = core::exportFrame(path, options);
+        core::writeDxf(path, std::span<const core::Mesh>(&mesh, 1), curves, d);
+    } else {
+        core::exportMesh(mesh, path, options);
+    }
+}
+
 namespace {
 // Below the mesher's helpers (AsyncMesher::kHelperNice, +5): the mesh on show comes first.
 constexpr int kExportNice = 10;
@@ -19,10 +35,11 @@ constexpr int kExportNice = 10;
 
 ExportInBackground::ExportInBackground(std::unique_ptr<const core::Sculpture> snapshot,
                                        double spacingMm, std::filesystem::path path,
-                                       core::ExportOptions options)
+                                       core::ExportOptions options,
+                                       std::vector<std::vector<core::Vec3>> curves)
     : mPath(std::move(path)) {
     mThread = std::thread([this, snapshot = std::move(snapshot), spacingMm,
-                           options = std::move(options)]() mutable {
+                           options = std::move(options), curves = std::move(curves)]() mutable {
         try {
             // Beside the frame and the mesher, never ahead of them: this thread and helpers
             // of its own for the other cores run at a lower priority (WorkerPool.h), and
@@ -35,7 +52,7 @@ ExportInBackground::ExportInBackground(std::unique_ptr<const core::Sculpture> sn
                 [&] { mesh = studio::wholeMeshOf(*snapshot, spacingMm, &workers); });
             snapshot.reset();  // the copy is not needed while the file is written
             options.voxelSizeMm = spacingMm;
-            core::exportMesh(mesh, mPath, options);
+            writeSculptureFile(mesh, mPath, options, curves);
             mOutcome = "exported " + mPath.string() + " (" + std::to_string(mesh.triangleCount()) +
                        " triangles)";
         } catch (const std::exception& e) {

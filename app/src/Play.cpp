@@ -3,6 +3,7 @@
 
 #include "vsculpt/app/CliChecks.h"
 #include "vsculpt/app/ExportDetail.h"
+#include "vsculpt/app/ExportInBackground.h"
 #include "vsculpt/app/Log.h"
 #include "vsculpt/app/ProgressBar.h"
 #include "vsculpt/app/Rig.h"
@@ -379,17 +380,7 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
                 eo.up.reset();
                 eo.units.reset();
             }
-            const std::vector<std::vector<Vec3>> curves = studio.curvesInObjectSpace();
-            if (std::filesystem::path(path).extension() == ".dxf" && !curves.empty()) {
-                // CAD gets the sketch too: the sculpture as 3DFACEs, the curves as polylines.
-                DxfOptions d;
-                d.surfaceLayer = "sculpture";
-                d.curveLayer = "sketch";
-                d.frame = exportFrame(path, eo);
-                writeDxf(path, std::span<const Mesh>(&mesh, 1), curves, d);
-            } else {
-                exportMesh(mesh, path, eo);
-            }
+            writeSculptureFile(mesh, path, eo, studio.curvesInObjectSpace());
             spdlog::info("wrote {}", path);
         }
         if (!o.shotPath.empty()) {

@@ -480,7 +480,10 @@ std::string Rig::exportTo(const std::filesystem::path& path, const core::ExportO
     const ExportDetail detail =
         exportDetail(s, core::zoomSpacing(mConfig, s.sculpture().levels(), 1));
     const double spacing = detail.keepingMm;
-    mExport = std::make_unique<ExportInBackground>(s.sculpture().clone(), spacing, path, options);
+    // The sketch's curves too, for a .dxf, as `play --out` writes them (found by QA: the sketch
+    // window's .dxf held the sculpture only).
+    mExport = std::make_unique<ExportInBackground>(s.sculpture().clone(), spacing, path, options,
+                                                   mStudio->curvesInObjectSpace());
     char said[200];
     if (detail.finestSize == 0)
         std::snprintf(said, sizeof said, " at %.3g mm...", spacing);

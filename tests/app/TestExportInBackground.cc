@@ -8,6 +8,7 @@
 #include "vsculpt/core/ExportMesh.h"
 #include "vsculpt/core/Project.h"
 #include "vsculpt/core/Zoom.h"
+#include "vsculpt/studio/Script.h"
 
 #include "../TestFixtures.h"
 
@@ -279,4 +280,35 @@ TEST_F(ExportInBackground, SaveAsWritesFromMemoryAndLeavesTheOldProjectAlone) {
     app::Rig reopened(smallSphere(), fromScratch);
     EXPECT_EQ(core::canonicalMeshHash(reopened.session().wholeMesh()), hash);
     EXPECT_EQ(reopened.session().history().done().size(), 1u);
+}
+
+// Found by QA: the windows' export of a .dxf held the sculpture only, where `vsculpt play
+// --out x.dxf` also writes the sketch's curves (layer "sketch"): both write the same file now.
+TEST_F(ExportInBackground, ADxfFromAWindowHoldsTheSketchCurvesAsPlayWritesThem) {
+    app::Rig rig(smallSphere(), app::RigOptions{});
+    const studio::Script script = studio::loadScript(VSCULPT_EXAMPLES_DIR "/sketch-figure.vsc");
+    // The pen strokes, not the solids: the file's curves are what matters, and the sphere
+    // alone exports in a moment.
+    for (const studio::ScriptCommand& c : script.commands)
+        if (!(c.kind == studio::ScriptCommand::Kind::Sketch &&
+              c.sketch.verb == studio::SketchCommand::Verb::Solid))
+            rig.studio().apply(c);
+    const size_t curves = rig.studio().curvesInObjectSpace().size();
+    ASSERT_GT(curves, 0u);
+    const std::filesystem::path path = dir / "figure.dxf";
+    rig.exportTo(path);
+    ASSERT_TRUE(rig.pollExport(true));
+    std::ifstream in(path);
+    std::string line, previous;
+    size_t polylines = 0, sketchLayer = 0, faces = 0;
+    while (std::getline(in, line)) {
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        if (line == "POLYLINE") ++polylines;
+        if (line == "3DFACE") ++faces;
+        if (previous == "8" && line == "sketch") ++sketchLayer;
+        previous = line;
+    }
+    EXPECT_EQ(polylines, curves);
+    EXPECT_GT(sketchLayer, 0u);
+    EXPECT_GT(faces, 1000u);
 }

@@ -12,8 +12,16 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace vsculpt::app {
+
+/// Writes the sculpture's mesh to `path` as `vsculpt play --out` and the windows' export do:
+/// core::exportMesh, except a .dxf with sketch `curves` (object space, mm), which gets both,
+/// the mesh as 3DFACEs on layer "sculpture" and the curves as 3D polylines on layer "sketch".
+void writeSculptureFile(const core::Mesh& mesh, const std::filesystem::path& path,
+                        const core::ExportOptions& options,
+                        const std::vector<std::vector<core::Vec3>>& curves);
 
 /// One export in flight. The thread owns its snapshot of the sculpture (edits made meanwhile
 /// are not in the file: it holds the clay as it was when the export was asked for).
@@ -21,8 +29,10 @@ class ExportInBackground {
   public:
     /// Starts meshing `snapshot` at `spacingMm` (Session's wholeMeshOf) and writing it to
     /// `path` (core::exportMesh with `options`; its voxel size set to the spacing).
+    /// `curves`: the sketch's, for a .dxf (writeSculptureFile).
     ExportInBackground(std::unique_ptr<const core::Sculpture> snapshot, double spacingMm,
-                       std::filesystem::path path, core::ExportOptions options);
+                       std::filesystem::path path, core::ExportOptions options,
+                       std::vector<std::vector<core::Vec3>> curves = {});
     /// Waits for the file: an export asked for is never dropped.
     ~ExportInBackground();
     ExportInBackground(const ExportInBackground&) = delete;

@@ -91,6 +91,12 @@ int runRenderStill(const RenderOptions& o, std::ostream& out, std::ostream& err)
             // Read-only: a still never changes the project (no journal truncation, no lock
             // file), works on read-only media and beside a window that has it open.
             studio = Studio::openProject(o.input, cfg, ProjectMode::ReadOnly);
+            // The still shows the recovered edits; the project is left as it is.
+            if (const size_t n = studio->session().recoveredEdits(); n > 0)
+                spdlog::info(
+                    "{}: {} edit(s) since the last save replayed from the journal "
+                    "(read-only: the project is not changed)",
+                    o.input, n);
             if (!studio->session().recoveryWarning().empty())
                 spdlog::warn("{}", studio->session().recoveryWarning());
         } else {

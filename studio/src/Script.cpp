@@ -2,6 +2,7 @@
 #include "vsculpt/studio/Script.h"
 
 #include "vsculpt/core/PrintableText.h"
+#include "vsculpt/core/Project.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -483,6 +484,11 @@ Script parseScript(std::string_view text, const std::string& source) {
             if (w.size() < 4 || (w.size() - 1) % 3 != 0)
                 p.fail("'stroke' takes points x y z [x y z ...] (got " +
                        std::to_string(w.size() - 1) + " number(s), not a multiple of 3)");
+            // Refused when the script is read, not after the stroke was sculpted (found by
+            // QA: a project's journal refused it then, and the rest of the run was lost).
+            if (const size_t n = (w.size() - 1) / 3; n > core::kMaxStrokeSamples)
+                p.fail("a stroke of " + std::to_string(n) + " points; a stroke may hold at most " +
+                       std::to_string(core::kMaxStrokeSamples) + " (split it into strokes)");
             for (size_t i = 1; i < w.size(); i += 3)
                 c.points.push_back(p.point(w, i, "a stroke point"));
         } else if (cmd == "import") {

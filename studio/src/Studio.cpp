@@ -380,12 +380,15 @@ int Studio::importMesh(const std::filesystem::path& file, const core::ImportOpti
 }
 
 void Studio::tellNotes(const core::ImportReport& report) const {
-    for (const std::string& note : report.notes) {
-        if (mNotice)
-            mNotice(note);
-        else
-            spdlog::warn("{}", note);  // the program's logger (app/Log.h)
-    }
+    for (const std::string& note : report.notes)
+        tell(note);
+}
+
+void Studio::tell(const std::string& note) const {
+    if (mNotice)
+        mNotice(note);
+    else
+        spdlog::warn("{}", note);  // the program's logger (app/Log.h)
 }
 
 void Studio::importMeshInBackground(const std::filesystem::path& file,
@@ -699,9 +702,19 @@ bool Studio::apply(const ScriptCommand& c) {
     using K = ScriptCommand::Kind;
     switch (c.kind) {
         case K::Undo:
-            return undo();
-        case K::Redo:
-            return redo();
+        case K::Redo: {
+            // A script's undo or redo with nothing left is said, once (found by QA: 5 000
+            // undos past the start went by in silence).
+            const bool isUndo = c.kind == K::Undo;
+            if (isUndo ? undo() : redo()) return true;
+            bool& said = isUndo ? mSaidNothingToUndo : mSaidNothingToRedo;
+            if (!said)
+                tell("line " + std::to_string(c.line) + ": " + (isUndo ? "undo" : "redo") +
+                     ": nothing left to " + (isUndo ? "undo" : "redo") +
+                     " (ignored, as are any more)");
+            said = true;
+            return false;
+        }
         case K::Sketch:
             if (c.sketch.verb == SketchCommand::Verb::Solid) {
                 buildSolid(constructionFromName(c.sketch.name), c.sketch.level);
@@ -711,9 +724,9 @@ bool Studio::apply(const ScriptCommand& c) {
             return false;
         case K::Save:
             // Said, not skipped in silence (found by QA): the test engineer expects a file.
-            if (!mSession->projectDir() && mNotice)
-                mNotice("line " + std::to_string(c.line) +
-                        ": save: this session has no project (--project DIR): nothing saved");
+            if (!mSession->projectDir())
+                tell("line " + std::to_string(c.line) +
+                     ": save: this session has no project (--project DIR): nothing saved");
             save();
             return false;
         case K::Import: {

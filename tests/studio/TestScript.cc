@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "vsculpt/studio/Script.h"
 
+#include "vsculpt/core/Project.h"
+
 #include <gtest/gtest.h>
 
 using namespace vsculpt::studio;
@@ -170,3 +172,23 @@ TEST(Script, MissingFileIsAnError) {
 }
 
 }  // namespace
+
+// Found by QA: a stroke of more samples than a journal record holds was refused by the
+// project's journal after it had been sculpted (35 minutes for real samples), and the rest of
+// the run was lost. It is refused when the script is read, with its line.
+TEST(Script, AStrokeLongerThanAJournalHoldsIsRefusedWhenRead) {
+    std::string text = "tool add\nstroke";
+    text.reserve(text.size() + 6 * (vsculpt::core::kMaxStrokeSamples + 1) + 1);
+    for (size_t i = 0; i <= vsculpt::core::kMaxStrokeSamples; ++i)
+        text += " 0 0 0";
+    text += "\n";
+    try {
+        parseScript(text, "long.vsc");
+        ADD_FAILURE() << "taken";
+    } catch (const ScriptError& e) {
+        EXPECT_EQ(std::string(e.what()).find("long.vsc:2: a stroke of 2000001 points; a stroke "
+                                             "may hold at most 2000000"),
+                  0u)
+            << e.what();
+    }
+}

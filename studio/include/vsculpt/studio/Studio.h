@@ -242,6 +242,8 @@ class Studio {
         }
     }
     void noteSculptSteps();
+    /// A note for the user: to the notice sink, else logged as a warning.
+    void tell(const std::string& note) const;
     /// An import's notes (a repaired mesh, rewound triangles) to the notice sink.
     void tellNotes(const core::ImportReport& report) const;
     void loadSketchFile();
@@ -291,6 +293,7 @@ class Studio {
     std::optional<std::filesystem::path> mFile;
     SurfaceProjector mProjector;
     std::function<void(const std::string&)> mNotice;
+    bool mSaidNothingToUndo = false, mSaidNothingToRedo = false;  // once a session each
     std::unique_ptr<ImportInBackground> mImport;  // the import in the background, if any
     std::vector<std::unique_ptr<ImportInBackground>> mEndingImports;  // done or cancelled, ending
     // Last: destroyed first, writing what is pending while the rest still stands.

@@ -17,6 +17,7 @@
 #include <GLFW/glfw3.h>  // key codes (the UI's key map uses GLFW's)
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -181,12 +182,15 @@ void dialog(UiState& state, std::vector<UiAction>& actions) {
         state.rects["field:path"] = {a.x, a.y, b.x, b.y};
     }
     if (exportDialog || importDialog) {
-        // Export: the file's frame; import: the frame the file was written in.
-        ImGui::SetNextItemWidth(140);
+        // Export: the file's frame; import: the frame the file was written in. As wide as their
+        // longest choice at any UI scale (found by QA: "format defa" at 1.4).
+        const float comboWidth =
+            ImGui::CalcTextSize("format default").x + 2 * ImGui::GetFrameHeight();
+        ImGui::SetNextItemWidth(comboWidth);
         ImGui::Combo("up axis", exportDialog ? &state.exportUp : &state.importUp,
                      "format default\0+Y up\0+Z up\0");
         ImGui::SameLine();
-        ImGui::SetNextItemWidth(140);
+        ImGui::SetNextItemWidth(comboWidth);
         ImGui::Combo("units", exportDialog ? &state.exportUnits : &state.importUnits,
                      "format default\0mm\0cm\0m\0");
     }
@@ -237,6 +241,9 @@ void recentPanel(UiState& state, std::vector<UiAction>& actions, int width) {
                      ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
                          ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_AlwaysAutoResize)) {
         rememberWindow(state, "recent");
+        // As wide as its title and close box at least (found by QA: "Recent proje").
+        ImGui::Dummy(
+            ImVec2(ImGui::CalcTextSize("Recent projects").x + 2 * ImGui::GetFrameHeight(), 0));
         if (state.recentList.empty()) ImGui::TextUnformatted("no recent projects");
         for (size_t i = 0; i < state.recentList.size(); ++i)
             if (button(state, state.recentList[i].string(), false, "recent " + std::to_string(i)))
@@ -262,20 +269,27 @@ void preferencesPanel(UiState& state, core::SculptConfig& cfg, std::vector<UiAct
             cfg.render.stereo = stereo == 1 ? "sbs" : stereo == 2 ? "anaglyph" : "mono";
             changed = true;
         }
-        auto slider = [&](const char* label, double& value, float lo, float hi, const char* fmt) {
+        // `decimals`: what the slider shows, and what is kept: a value dragged to 0.019 is saved
+        // as 0.019, not as the float's 0.01899999938905239 (found by QA).
+        auto slider = [&](const char* label, double& value, float lo, float hi, int decimals) {
             float v = float(value);
+            const std::string fmt = "%." + std::to_string(decimals) + "f";
             ImGui::SetNextItemWidth(200);
-            if (ImGui::SliderFloat(label, &v, lo, hi, fmt)) {
-                value = v;
+            if (ImGui::SliderFloat(label, &v, lo, hi, fmt.c_str())) {
+                const double step = std::pow(10.0, -decimals);
+                value = std::round(double(v) / step) * step;
                 changed = true;
             }
         };
-        slider("IPD (mm)", cfg.render.ipdMm, 0, 80, "%.1f");
-        slider("UI depth (mm, 0: screen)", cfg.render.uiDepthMm, 0, 2000, "%.0f");
-        slider("UI scale", cfg.render.uiScale, 0.75f, 3, "%.2f");
-        slider("rotate (rad per pixel)", cfg.interaction.rotateRadPerPixel, 0.001f, 0.05f, "%.3f");
-        slider("scroll depth (x diameter)", cfg.interaction.depthStepOverDiameter, 0.05f, 1,
-               "%.2f");
+        slider("IPD (mm)", cfg.render.ipdMm, 0, 80, 1);
+        slider("UI depth (mm, 0: screen)", cfg.render.uiDepthMm, 0, 2000, 0);
+        // The config's whole range (found by QA: the slider stopped at 3 of its 4).
+        slider("UI scale", cfg.render.uiScale, 0.5f, 4, 2);
+        if (const float drawn = fittedUiScale(cfg.render.uiScale, height);
+            drawn < cfg.render.uiScale - 1e-6)
+            ImGui::TextDisabled("drawn at %.2f: a window %d px high fits no more", drawn, height);
+        slider("rotate (rad per pixel)", cfg.interaction.rotateRadPerPixel, 0.001f, 0.05f, 3);
+        slider("scroll depth (x diameter)", cfg.interaction.depthStepOverDiameter, 0.05f, 1, 2);
         if (changed) actions.push_back({"preferences_changed"});
         ImGui::Separator();
         const std::filesystem::path target = core::userConfigPath();

@@ -609,21 +609,27 @@ SculptConfig parseStoredConfig(std::string_view jsonText, const std::string& sou
 
 SculptConfig loadConfig(const std::filesystem::path& path) {
     if (path.empty()) return SculptConfig{};  // source: "built-in defaults"
+    const char* env = envValue("VSCULPT_CONFIG");
+    const std::string namedBy =
+        env && path == std::filesystem::path(env) ? " (named by $VSCULPT_CONFIG)" : "";
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec))
-        throw ConfigError(path.string() + ": cannot open config file: it is a folder");
+        throw ConfigError(path.string() + ": cannot open config file: it is a folder" + namedBy);
     std::ifstream in(path, std::ios::binary);
     if (!in) {
         const int err = errno;  // ifstream leaves open()'s errno
-        const char* env = envValue("VSCULPT_CONFIG");
-        throw ConfigError(
-            path.string() + ": cannot open config file" +
-            (err ? ": " + std::string(std::strerror(err)) : "") +
-            (env && path == std::filesystem::path(env) ? " (named by $VSCULPT_CONFIG)" : ""));
+        throw ConfigError(path.string() + ": cannot open config file" +
+                          (err ? ": " + std::string(std::strerror(err)) : "") + namedBy);
     }
     std::ostringstream text;
     text << in.rdbuf();
     if (in.bad()) throw ConfigError(path.string() + ": read error");
+    // Refused, not taken as the defaults (a file emptied by accident would silently lose every
+    // setting), but said plainly (found by QA: "invalid JSON" of a file made with `touch`).
+    if (text.str().find_first_not_of(" \t\r\n") == std::string::npos)
+        throw ConfigError(path.string() + ": empty; a config holds at least {} (every key is "
+                                          "optional: {} is the built-in defaults)" +
+                          namedBy);
     return parseConfig(text.str(), path.string());
 }
 

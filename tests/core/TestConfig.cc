@@ -598,6 +598,29 @@ TEST(Config, LookupOrder) {
                           "$VSCULPT_CONFIG)");
         }
     }
+    // A folder is named as one, with who named it; an empty file (made with `touch`) says what
+    // a config needs (found by QA: "invalid JSON").
+    {
+        ScopedEnv set("VSCULPT_CONFIG", dir.c_str());
+        try {
+            loadConfig(defaultConfigPath());
+            ADD_FAILURE() << "a folder was accepted";
+        } catch (const ConfigError& e) {
+            EXPECT_EQ(std::string(e.what()), dir.string() +
+                                                  ": cannot open config file: it is a folder "
+                                                  "(named by $VSCULPT_CONFIG)");
+        }
+        const std::filesystem::path empty = dir / "empty.json";
+        std::ofstream(empty) << " \n";
+        try {
+            loadConfig(empty);
+            ADD_FAILURE() << "an empty file was accepted";
+        } catch (const ConfigError& e) {
+            EXPECT_EQ(std::string(e.what()), empty.string() +
+                                                  ": empty; a config holds at least {} (every key "
+                                                  "is optional: {} is the built-in defaults)");
+        }
+    }
     {
         ScopedEnv empty("VSCULPT_CONFIG", "");  // empty counts as unset
         EXPECT_EQ(defaultConfigPath(), user);

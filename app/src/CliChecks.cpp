@@ -54,6 +54,13 @@ void requireRecordingPath(const std::filesystem::path& path, const std::string& 
 
 namespace {
 
+/// Whether two existing paths name one file: the same device and inode, so a hard link too
+/// (false when either does not exist).
+bool sameFile(const fs::path& a, const fs::path& b) {
+    std::error_code ec;
+    return fs::equivalent(a, b, ec) && !ec;
+}
+
 fs::path resolvedPath(const std::string& path) {
     std::error_code ec;
     const fs::path absolute = fs::absolute(path, ec);
@@ -74,11 +81,21 @@ std::string outputClash(const std::vector<std::pair<std::string, std::string>>& 
             if (resolvedPath(written[k].second) == p)
                 return option + " " + path + ": the same file as " + written[k].first + " " +
                        written[k].second + " (each output needs its own file)";
-        if (!script.empty() && p == resolvedPath(script))
+        // By name, and by identity: a hard link names the same file under another name, and a
+        // recording is written into the file it finds (found by QA: --record onto a hard link
+        // of the project's snapshot destroyed the snapshot).
+        if (!script.empty() && (p == resolvedPath(script) || sameFile(p, script)))
             return option + " " + path +
                    ": that is the script being played; it would be overwritten";
-        if (!config.empty() && p == resolvedPath(config))
+        if (!config.empty() && (p == resolvedPath(config) || sameFile(p, config)))
             return option + " " + path + ": that is the --config file; it would be overwritten";
+        std::error_code ec;
+        if (!projectDir.empty() && fs::is_regular_file(p, ec))
+            for (const fs::directory_entry& e : fs::directory_iterator(projectDir, ec))
+                if (e.is_regular_file(ec) && sameFile(p, e.path()))
+                    return option + " " + path + ": that is the project's " +
+                           e.path().filename().string() +
+                           " under another name (a hard link); it would be overwritten";
         if (!projectDir.empty() && p.parent_path() == resolvedPath(projectDir)) {
             const fs::path exports = fs::path(projectDir) / "exports";
             std::error_code ec;

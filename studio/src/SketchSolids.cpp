@@ -75,9 +75,12 @@ sketch::SketchSolidInput sketchSolidInput(sketch::SolidConstruction construction
             for (const studio::RolePolyline& r : document.page(page).rolePolylines()) {
                 if (r.role != role) continue;
                 // A raw stroke counts as closed when it ends where it began, as loosely
-                // as designers close loops (StrokeClosedness.h).
+                // as designers close loops (StrokeClosedness.h). Four points make the
+                // smallest loop, a triangle back to its start (found by QA: a square of five
+                // script points, docs/playback.md's own example in draft mode, was "not
+                // closed" under the six points asked before).
                 Found f{{r.points, r.closed}, planeOf(page)};
-                if (!r.fromCurve && !r.closed && r.points.size() >= 6 &&
+                if (!r.fromCurve && !r.closed && r.points.size() >= 4 &&
                     sketch::isClosedStroke(r.points)) {
                     f.curve.closed = true;
                     // Overshoot past the start would fold the outline: end at the point

@@ -705,13 +705,17 @@ bool Studio::apply(const ScriptCommand& c) {
         case K::Redo: {
             // A script's undo or redo with nothing left is said, once (found by QA: 5 000
             // undos past the start went by in silence).
+            // Once for a run of them: a step undone or redone in between says it again.
             const bool isUndo = c.kind == K::Undo;
-            if (isUndo ? undo() : redo()) return true;
             bool& said = isUndo ? mSaidNothingToUndo : mSaidNothingToRedo;
+            if (isUndo ? !mDone.empty() : !mUndone.empty()) {
+                said = false;
+                return isUndo ? undo() : redo();  // whether the sculpture changed
+            }
             if (!said)
                 tell("line " + std::to_string(c.line) + ": " + (isUndo ? "undo" : "redo") +
                      ": nothing left to " + (isUndo ? "undo" : "redo") +
-                     " (ignored, as are any more)");
+                     " (ignored, as are more in a row)");
             said = true;
             return false;
         }
@@ -773,29 +777,35 @@ void Studio::applySketch(const ScriptCommand& c) {
             return;
         case V::Pen: {
             // Script positions are canvas mm, so a script draws the same whatever the view (the
-            // window centres its canvas); the pen goes through the view as a tablet's would.
+            // window centres its canvas). The pen goes through an identity view, bit for bit:
+            // through the window's view and back the samples moved by 1e-14 mm, and a solid
+            // inflated from them came out different from `play`'s (found by QA).
             // Times: as given, or 10 ms apart, each stroke 0.2 s after the previous one (within
             // the clean-up pause, so scripted overdrawing forms one group until `tick`).
             std::vector<studio::PenSample> samples;
             double t = mClock + 0.2;
             for (const PenPoint& q : s.pen) {
                 studio::PenSample ps;
-                ps.view = page().view().viewFromCanvas(glm::dvec2(q.x, q.y));
+                ps.view = glm::dvec2(q.x, q.y);
                 ps.pressure = q.pressure;
                 ps.time = q.time.value_or(t);
                 t = ps.time + 0.01;
                 samples.push_back(ps);
             }
             sketchStep([&](studio::SketchPage& p) {
-                p.penDown(samples.front());
+                const studio::CanvasView shown = p.view();
+                p.resetView();
                 try {
+                    p.penDown(samples.front());
                     for (size_t i = 1; i < samples.size(); ++i)
                         p.penMove(samples[i]);
                 } catch (...) {
                     p.cancelStroke();
+                    p.setView(shown);
                     throw;
                 }
                 p.penUp();
+                p.setView(shown);
             });
             mClock = samples.back().time;
             return;

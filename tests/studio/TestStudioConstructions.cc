@@ -244,3 +244,47 @@ TEST(StudioConstructions, ExtrudeRaisesAProtrusion) {
 }
 
 }  // namespace
+
+// Found by QA: a loop of few script points (docs/playback.md's own example, in draft mode) was
+// "not closed": a raw stroke needed six points to count as a loop. A triangle back to its
+// start is the smallest one.
+TEST(StudioConstructions, AFewPointLoopInDraftModeIsClosed) {
+    for (const char* loop : {"pen 0,0 20,0 20,20 0,20 0,0\n", "pen 0,0 30,0 30,30 0,0\n"}) {
+        Studio studio(emptyConfig());
+        run(studio,
+            std::string("page body\nmode draft\n") + loop + "role outline last\nsolid inflate\n");
+        EXPECT_EQ(studio.session().history().done().size(), 1u) << loop;
+        EXPECT_GT(studio.session().sculpture().counts().total(), 0u) << loop;
+    }
+    // Open strokes stay open: a V is refused.
+    Studio studio(emptyConfig());
+    EXPECT_THROW(run(studio,
+                     "page body\nmode draft\npen 0,0 20,20 40,0 30,-5\nrole outline "
+                     "last\nsolid inflate\n"),
+                 std::exception);
+}
+
+// Found by QA: script pen samples went through the page's view and back, so the sketch window
+// (whose view is centred on its canvas) stored them 1e-14 mm off `play`'s and inflated another
+// solid. A script draws the same, bit for bit, whatever the view.
+TEST(StudioConstructions, AScriptDrawsTheSameWhateverThePagesView) {
+    const std::string outline =
+        pen([](double t) { return circleAt(glm::dvec2(3.3, -1.7), 20.123, t); }, 160);
+    auto build = [&](bool windowView) {
+        Studio studio(emptyConfig());
+        run(studio, "page body\nmode draft\n");
+        if (windowView) {
+            CanvasView v;
+            v.scale = 0.7;
+            v.offset = glm::dvec2(-80.3, -90.1);
+            studio.page().setView(v);
+        }
+        run(studio, outline + "role outline last\nsolid inflate\n");
+        if (windowView) EXPECT_EQ(studio.page().view().offset.x, -80.3);  // the view stays
+        return std::make_pair(studio.page().content().strokes,
+                              core::canonicalMeshHash(studio.session().wholeMesh(1.0)));
+    };
+    const auto window = build(true), headless = build(false);
+    EXPECT_TRUE(window.first == headless.first) << "the stored samples differ";
+    EXPECT_EQ(window.second, headless.second);
+}

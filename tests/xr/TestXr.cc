@@ -351,6 +351,16 @@ TEST_F(Xr, ARecordingThatWouldOverwriteTheSessionsOwnFilesIsRefused) {
     EXPECT_EQ(r.exitCode, 2) << r.output;
     EXPECT_NE(r.output.find("inside the project folder"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(project / "journal.vsrec"));
+    // A hard link of the snapshot outside the project is the snapshot (found by QA: the
+    // recording was written into it).
+    const fs::path link = mDir / "linked.vsrec";
+    fs::create_hard_link(project / "snapshot.vsnap", link);
+    r = run("", "--xr --frames 3 --record '" + link.string() + "'", VSCULPT_XR_TEST_MANIFEST, "",
+            true, "--project '" + project.string() + "'");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("that is the project's snapshot.vsnap under another name"),
+              std::string::npos)
+        << r.output;
     {
         std::ifstream f(project / "snapshot.vsnap", std::ios::binary);
         EXPECT_EQ(std::string(std::istreambuf_iterator<char>(f), {}), snapshot);

@@ -288,3 +288,25 @@ TEST(StudioConstructions, AScriptDrawsTheSameWhateverThePagesView) {
     EXPECT_TRUE(window.first == headless.first) << "the stored samples differ";
     EXPECT_EQ(window.second, headless.second);
 }
+
+// Found by QA: an undo of a sketch step said "nothing left to undo" (the sculpture did not
+// change) and then stayed silent for real excess undos. Said only when nothing is left, once
+// for a run of them.
+TEST(StudioConstructions, UndoingSketchStepsIsNotNothingLeftToUndo) {
+    Studio studio(emptyConfig());
+    std::vector<std::string> said;
+    studio.setNoticeSink([&](const std::string& s) { said.push_back(s); });
+    run(studio, "page p1\npen 0,0 10,0 10,10\nrole outline last\nundo\nundo\nredo\nredo\n");
+    EXPECT_TRUE(said.empty()) << said.front();
+    const size_t steps = studio.stepCount();
+    ASSERT_GT(steps, 0u);
+    std::string undos;
+    for (size_t i = 0; i < steps + 3; ++i)
+        undos += "undo\n";
+    run(studio, undos + "redo\nundo\nundo\n");
+    ASSERT_EQ(said.size(), 2u);
+    EXPECT_EQ(said[0], "line " + std::to_string(steps + 1) +
+                           ": undo: nothing left to undo (ignored, as are more in a row)");
+    EXPECT_EQ(said[1].rfind("line " + std::to_string(steps + 6) + ": undo: nothing left", 0), 0u)
+        << said[1];
+}

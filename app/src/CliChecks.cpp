@@ -89,13 +89,6 @@ std::string outputClash(const std::vector<std::pair<std::string, std::string>>& 
                    ": that is the script being played; it would be overwritten";
         if (!config.empty() && (p == resolvedPath(config) || sameFile(p, config)))
             return option + " " + path + ": that is the --config file; it would be overwritten";
-        std::error_code ec;
-        if (!projectDir.empty() && fs::is_regular_file(p, ec))
-            for (const fs::directory_entry& e : fs::directory_iterator(projectDir, ec))
-                if (e.is_regular_file(ec) && sameFile(p, e.path()))
-                    return option + " " + path + ": that is the project's " +
-                           e.path().filename().string() +
-                           " under another name (a hard link); it would be overwritten";
         if (!projectDir.empty() && p.parent_path() == resolvedPath(projectDir)) {
             const fs::path exports = fs::path(projectDir) / "exports";
             std::error_code ec;
@@ -104,6 +97,12 @@ std::string outputClash(const std::vector<std::pair<std::string, std::string>>& 
                    exports.string() +
                    (fs::is_directory(exports, ec) ? "" : ", made first with mkdir") + ")";
         }
+        if (std::error_code ec; !projectDir.empty() && fs::is_regular_file(p, ec))
+            for (const fs::directory_entry& e : fs::directory_iterator(projectDir, ec))
+                if (e.is_regular_file(ec) && sameFile(p, e.path()))
+                    return option + " " + path + ": that is the project's " +
+                           e.path().filename().string() +
+                           " under another name (a hard link); it would be overwritten";
     }
     return "";
 }

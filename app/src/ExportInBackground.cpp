@@ -17,12 +17,20 @@ void writeSculptureFile(const core::Mesh& mesh, const std::filesystem::path& pat
                         const core::ExportOptions& options,
                         const std::vector<std::vector<core::Vec3>>& curves) {
     if (path.extension() == ".dxf" && !curves.empty()) {
-        // CAD gets the sketch too: the sculpture as 3DFACEs, the curves as polylines.
+        // CAD gets the sketch too: the sculpture as 3DFACEs, the curves as polylines. A curve
+        // that ends where it began is a closed polyline (found by QA: every loop came out
+        // open), written without the repeated point.
         core::DxfOptions d;
         d.surfaceLayer = "sculpture";
         d.curveLayer = "sketch";
         d.frame = core::exportFrame(path, options);
-        core::writeDxf(path, std::span<const core::Mesh>(&mesh, 1), curves, d);
+        std::vector<std::vector<core::Vec3>> written = curves;
+        for (std::vector<core::Vec3>& c : written) {
+            const bool closed = c.size() >= 4 && c.front() == c.back();
+            if (closed) c.pop_back();
+            d.closedCurves.push_back(closed);
+        }
+        core::writeDxf(path, std::span<const core::Mesh>(&mesh, 1), written, d);
     } else {
         core::exportMesh(mesh, path, options);
     }

@@ -21,6 +21,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <set>
 #include <stdexcept>
 
 #include <spdlog/spdlog.h>
@@ -596,10 +597,16 @@ std::vector<std::vector<core::Vec3>> Studio::curvesInObjectSpace() const {
             if (closed && pts.front() != pts.back()) c.push_back(c.front());
             out.push_back(std::move(c));
         };
-        for (const sketch::CleanCurve& c : p.cleanCurves())
+        // The clean curves, and the strokes no clean curve was made of (found by QA: a clean-up
+        // group's raw strokes were exported beside its curve).
+        const studio::PageContent content = p.content();
+        std::set<int> consumed;
+        for (const auto& c : content.curves) {
+            consumed.insert(c.strokes.begin(), c.strokes.end());
             add(c.samples, c.closed);
-        for (int id : p.liveStrokeIds())
-            add(p.strokePoints(id), false);
+        }
+        for (const auto& s : content.strokes)
+            if (!consumed.count(s.id)) add(s.points, false);
     }
     out.insert(out.end(), mSurfaceLines.begin(), mSurfaceLines.end());
     return out;

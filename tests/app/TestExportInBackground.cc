@@ -300,15 +300,21 @@ TEST_F(ExportInBackground, ADxfFromAWindowHoldsTheSketchCurvesAsPlayWritesThem) 
     ASSERT_TRUE(rig.pollExport(true));
     std::ifstream in(path);
     std::string line, previous;
-    size_t polylines = 0, sketchLayer = 0, faces = 0;
+    size_t polylines = 0, sketchLayer = 0, faces = 0, closed = 0;
+    bool inPolylineHeader = false;
     while (std::getline(in, line)) {
         if (!line.empty() && line.back() == '\r') line.pop_back();
         if (line == "POLYLINE") ++polylines;
+        if (line == "POLYLINE" || line == "VERTEX") inPolylineHeader = line == "POLYLINE";
+        // Flag 70 of the polyline: 8 = 3D, 9 = 3D and closed.
+        if (inPolylineHeader && previous == "70" && line == "9") ++closed;
         if (line == "3DFACE") ++faces;
         if (previous == "8" && line == "sketch") ++sketchLayer;
         previous = line;
     }
     EXPECT_EQ(polylines, curves);
     EXPECT_GT(sketchLayer, 0u);
+    // The body outline, a clean-up loop, is closed (found by QA: every curve came out open).
+    EXPECT_GE(closed, 1u);
     EXPECT_GT(faces, 1000u);
 }

@@ -894,22 +894,27 @@ SnapshotContents readSnapshot(const fs::path& path) {
 
 namespace {
 
-/// Appends the records of one journal file that continue the chain at `last`. Records up to
-/// `last` are already in: skipped. `isCurrent`: journal.vjl, which the caller will append to.
-void takeRecords(RecoveredProject& out, const fs::path& path, bool isCurrent, uint64_t& last) {
-    JournalScan scan;
+/// The records of one journal file, or nullopt (with a warning in `out`) for a backup that
+/// cannot be read. `isCurrent`: journal.vjl, which the caller will append to; one that cannot
+/// be read is refused rather than later overwritten by the writer.
+std::optional<JournalScan> scanned(RecoveredProject& out, const fs::path& path, bool isCurrent) {
     try {
-        scan = scanJournal(path);
+        return scanJournal(path);
     } catch (const ProjectError& e) {
-        // Refused rather than later overwritten by the writer; the way out named (found by QA:
-        // a project refused without a word on what to do).
+        // The way out named (found by QA: a project refused without a word on what to do).
         if (isCurrent)
             throw ProjectError(std::string(e.what()) + "; the project was not opened and is left " +
                                "as it is (move " + path.filename().string() +
                                " out of the folder to open the project without it)");
         out.warnings.push_back(std::string(e.what()) + "; its records were not used");
-        return;
+        return std::nullopt;
     }
+}
+
+/// Appends the records of `scan` (of the file `path`) that continue the chain at `last`.
+/// Records up to `last` are already in: skipped.
+void takeScanned(RecoveredProject& out, const fs::path& path, bool isCurrent, JournalScan scan,
+                 uint64_t& last) {
     if (isCurrent) out.journalValidBytes = scan.headerBytes;
     for (size_t i = 0; i < scan.records.size(); ++i) {
         JournalRecord& rec = scan.records[i];
@@ -930,16 +935,17 @@ void takeRecords(RecoveredProject& out, const fs::path& path, bool isCurrent, ui
     if (!scan.warning.empty()) out.warnings.push_back(std::move(scan.warning));
 }
 
+/// Both: the records of one journal file that continue the chain at `last`.
+void takeRecords(RecoveredProject& out, const fs::path& path, bool isCurrent, uint64_t& last) {
+    if (std::optional<JournalScan> scan = scanned(out, path, isCurrent))
+        takeScanned(out, path, isCurrent, std::move(*scan), last);
+}
+
 /// Whether the journal's first record after `last` leaves a gap (its sequence is past
-/// last + 1). False for a journal that cannot be read: takeRecords reports that.
-bool journalSkipsPast(const fs::path& path, uint64_t last) {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) return false;
-    try {
-        for (const JournalRecord& rec : scanJournal(path).records)
-            if (rec.sequence > last) return rec.sequence > last + 1;
-    } catch (const ProjectError&) {
-    }
+/// last + 1).
+bool skipsPast(const JournalScan& scan, uint64_t last) {
+    for (const JournalRecord& rec : scan.records)
+        if (rec.sequence > last) return rec.sequence > last + 1;
     return false;
 }
 
@@ -987,7 +993,9 @@ RecoveredProject readProject(const fs::path& dir) {
         // swapped in by hand) leaves a gap that journal.vjl.bak may hold: bridged from it,
         // else the next save would rotate the backup journal away with the only copy of the
         // edits between them.
-        if (journalSkipsPast(journalPath(dir), last)) {
+        // journal.vjl read once: scanned here, its records taken after the bridge.
+        JournalScan current = *scanned(out, journalPath(dir), true);
+        if (skipsPast(current, last)) {
             const uint64_t from = last;
             takeRecords(out, journalBackupPath(dir), false, last);
             if (last > from)
@@ -996,7 +1004,7 @@ RecoveredProject readProject(const fs::path& dir) {
                                        std::to_string(from + 1) + " to " + std::to_string(last) +
                                        " taken from " + journalBackupPath(dir).string());
         }
-        takeRecords(out, journalPath(dir), true, last);
+        takeScanned(out, journalPath(dir), true, std::move(current), last);
         return out;
     }
 

@@ -948,15 +948,19 @@ std::string sketchFileText(const SketchFileState& s) {
 
 }  // namespace
 
+std::vector<std::string> Studio::planeNames() const {
+    std::vector<std::string> planes;
+    for (size_t i = 0; i < mDocument.pageCount(); ++i)
+        planes.emplace_back(sketch::sketchPlaneName(plane(i)));
+    return planes;
+}
+
 void Studio::writeSketchFile() const {
     if (!mFile || mSession->readOnly()) return;
     if (const std::string failed = mSketchWriter->takeError(); !failed.empty() && mNotice)
         mNotice("the sketch was not saved: " + failed);
-    std::vector<std::string> planes;
-    for (size_t i = 0; i < mDocument.pageCount(); ++i)
-        planes.emplace_back(sketch::sketchPlaneName(plane(i)));
     auto state = std::make_shared<const SketchFileState>(SketchFileState{
-        mDocument, std::move(planes), mDone, mUndone, mSurfaceLines, mUndoneSurfaceLines});
+        mDocument, planeNames(), mDone, mUndone, mSurfaceLines, mUndoneSurfaceLines});
     mSketchWriter->post([state] { return sketchFileText(*state); });
     mWrittenDone = mDone;
     mWrittenUndone = mUndone;
@@ -965,11 +969,8 @@ void Studio::writeSketchFile() const {
 void Studio::saveCopyTo(const std::filesystem::path& dir) {
     endStroke();
     mSession->saveCopyTo(dir);
-    std::vector<std::string> planes;
-    for (size_t i = 0; i < mDocument.pageCount(); ++i)
-        planes.emplace_back(sketch::sketchPlaneName(plane(i)));
-    const SketchFileState state{mDocument, std::move(planes), mDone,
-                                mUndone,   mSurfaceLines,     mUndoneSurfaceLines};
+    const SketchFileState state{mDocument, planeNames(),  mDone,
+                                mUndone,   mSurfaceLines, mUndoneSurfaceLines};
     core::writeFileAtomically(dir / "sketch.json", sketchFileText(state), true);
 }
 

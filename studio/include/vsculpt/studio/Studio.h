@@ -242,6 +242,8 @@ class Studio {
         }
     }
     void noteSculptSteps();
+    /// Each page's sketch plane by name, as sketch.json stores them.
+    std::vector<std::string> planeNames() const;
     /// A note for the user: to the notice sink, else logged as a warning.
     void tell(const std::string& note) const;
     /// An import's notes (a repaired mesh, rewound triangles) to the notice sink.

@@ -10,6 +10,7 @@
 #include "vsculpt/core/Zoom.h"
 #include "vsculpt/devices/Recording.h"
 #include "vsculpt/render/StereoCamera.h"
+#include "vsculpt/studio/ViewState.h"
 
 #include <glm/gtc/quaternion.hpp>
 
@@ -36,6 +37,7 @@ RigOptions windowRigOptions(const std::string& projectDir, bool noProject, bool 
     ro.liveDevices = liveDevices;
     ro.rememberRecent = true;
     ro.asyncMeshing = true;
+    ro.keepViewState = true;
     return ro;
 }
 
@@ -275,6 +277,31 @@ Rig::~Rig() = default;
 void Rig::openStudio(const std::filesystem::path& dir) {
     mStudio = Studio::openProject(dir, mConfig, mOptions.mode);
     setUpStudio(*mStudio, mOptions);
+    restoreViewState();
+}
+
+void Rig::restoreViewState() {
+    const auto& dir = mStudio->session().projectDir();
+    if (!mOptions.keepViewState || !dir) return;
+    const studio::ViewState opened = studio::viewStateOf(mStudio->session());
+    try {
+        if (const auto v = studio::readViewState(*dir)) studio::applyViewState(*mStudio, *v);
+    } catch (const std::exception& e) {
+        // Only the view is lost: the clay and its history are in the snapshot and journal.
+        // Half a view (a pose without its zoom) would mislead more than none.
+        spdlog::warn("{}; starting at the default tool and view", e.what());
+        studio::applyViewState(*mStudio, opened);
+    }
+}
+
+void Rig::keepViewState() const {
+    const Session& s = mStudio->session();
+    if (!mOptions.keepViewState || !s.projectDir() || s.readOnly()) return;
+    try {
+        studio::writeViewState(*s.projectDir(), studio::viewStateOf(s));
+    } catch (const std::exception& e) {
+        spdlog::warn("{}: the tool and view are not kept (the work is)", e.what());
+    }
 }
 
 DeviceInput& Rig::replayDevices(std::vector<devices::DeviceRule> rules) {
@@ -328,6 +355,7 @@ std::string Rig::recoveryMessage() const {
 
 std::string Rig::save() {
     if (!mStudio->saveInBackground()) return "nothing saved: no project";
+    keepViewState();
     return "saving " + mStudio->session().projectDir()->string() + "...";
 }
 
@@ -337,6 +365,7 @@ std::string Rig::saveNow() {
     pollImport(true);
     pollSave(true);
     mStudio->save();
+    keepViewState();
     return "saved " + mStudio->session().projectDir()->string();
 }
 
@@ -364,6 +393,8 @@ void Rig::close() {
     // An export or save asked for is written before the window goes.
     pollBackgroundWork(true);
     mStudio->endStroke();
+    // Also when nothing was sculpted: turning the piece or zooming in is worth finding again.
+    keepViewState();
     if (!mStudio->session().hasJournaledEdits()) return;
     try {
         mStudio->save();
@@ -383,22 +414,13 @@ std::string Rig::saveAs(const std::filesystem::path& dir) {
     mStudio->saveCopyTo(dir);
     // "Continuing there": with the tool as it was, not the defaults (found by QA: the next
     // stroke came out unmirrored at another size).
-    const Session& was = mStudio->session();
-    const core::RigidTransform pose = was.objectPose();
-    const ToolKind tool = was.tool();
-    const core::MirrorAxis mirror = was.mirror();
-    const int size = was.size(), zoom = was.zoom();
-    const core::Aabb region = was.region().box();
-    const core::Vec3 centre = 0.5 * (region.min + region.max);
+    const studio::ViewState was = studio::viewStateOf(mStudio->session());
     mDevices.reset();
     mInteraction.reset();
     mStudio.reset();  // unlocks the old project
     openStudio(dir);
-    mStudio->setObjectPose(pose);
-    if (zoom > 1) mStudio->setZoom(zoom, centre);
-    mStudio->setSize(size);
-    mStudio->setTool(tool);
-    mStudio->setMirror(mirror);
+    studio::applyViewState(*mStudio, was);
+    keepViewState();
     rebuildInput();
     rememberLastProject(dir);
     return "saved as " + dir.string() + " (continuing there)";
@@ -443,6 +465,7 @@ std::string Rig::openProject(const std::filesystem::path& dir) {
     mInteraction.reset();
     mStudio = std::move(next);
     setUpStudio(*mStudio, mOptions);
+    restoreViewState();
     rebuildInput();
     rememberLastProject(dir);
     return saved + "opened " + dir.string();

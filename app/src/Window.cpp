@@ -13,6 +13,7 @@
 #include "vsculpt/render/UiLayer.h"
 #include "vsculpt/render/Viewer.h"
 #include "vsculpt/studio/PickTool.h"
+#include "vsculpt/studio/ViewState.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>  // key and button codes only
@@ -34,17 +35,6 @@ namespace vsculpt::app {
 using namespace vsculpt::studio;
 
 using namespace vsculpt::core;
-
-namespace {
-
-const char* toolName(ToolKind t) {
-    return t == ToolKind::Add      ? "add"
-           : t == ToolKind::Carve  ? "carve"
-           : t == ToolKind::Smooth ? "smooth"
-                                   : "select";
-}
-
-}  // namespace
 
 int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err) {
     (void)out;  // nothing here is data: every message is a log line on `err`
@@ -436,7 +426,7 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
             title, sizeof title,
             "vsculpt — %s%s%s · size %d (%.1f mm) · zoom %d · %zu skeletons · %zu triangles · "
             "%.1f ms/frame · %s%s%s",
-            toolName(session.tool()),
+            studio::toString(session.tool()),
             session.mirror() == core::MirrorAxis::None ? "" : " · mirror ",
             session.mirror() == core::MirrorAxis::None ? "" : core::toString(session.mirror()),
             session.size(), level.diameterMm, session.zoom(), session.sculpture().counts().total(),

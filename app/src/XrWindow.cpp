@@ -15,6 +15,7 @@
 #include "vsculpt/render/Viewer.h"
 #include "vsculpt/studio/PickTool.h"
 #include "vsculpt/studio/Script.h"
+#include "vsculpt/studio/ViewState.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>  // key codes only
@@ -52,13 +53,6 @@ render::EyeView eyeView(const devices::XrEyeView& e, const core::XrConfig& cfg) 
 
 devices::GlxBinding glxOf(const render::NativeGl& n) {
     return {n.display, n.visualId, n.fbConfig, n.drawable, n.context};
-}
-
-const char* toolName(ToolKind t) {
-    return t == ToolKind::Add      ? "add"
-           : t == ToolKind::Carve  ? "carve"
-           : t == ToolKind::Smooth ? "smooth"
-                                   : "select";
 }
 
 }  // namespace
@@ -392,8 +386,8 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
     std::snprintf(hash, sizeof hash, "%016llx",
                   static_cast<unsigned long long>(core::canonicalMeshHash(s.wholeMesh())));
     spdlog::info("{} skeletons, {} step(s), tool {}, size {}, zoom {}, mesh hash {}",
-                 s.sculpture().counts().total(), rig->studio().stepCount(), toolName(s.tool()),
-                 s.size(), s.zoom(), hash);
+                 s.sculpture().counts().total(), rig->studio().stepCount(),
+                 studio::toString(s.tool()), s.size(), s.zoom(), hash);
     return code;
 }
 

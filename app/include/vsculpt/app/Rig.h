@@ -42,6 +42,10 @@ struct RigOptions {
     /// Mesh on the mesher thread (Session::setAsyncMeshing): the windows, whose frames must
     /// never wait for a rebuild. Playback meshes every edit before the next (the default).
     bool asyncMeshing = false;
+    /// The windows: the tool, size, zoom, mirror and the sculpture's pose are brought back
+    /// from the project's view.json when it opens, and written there on save and close
+    /// (studio/ViewState.h). `vsculpt play` starts from the defaults.
+    bool keepViewState = false;
 };
 
 /// A window's rig: `projectDir` when given, no project with `noProject`, otherwise the last
@@ -178,6 +182,12 @@ class Rig {
     std::optional<std::string> pollImport(bool wait);
     void openStudio(const std::filesystem::path& dir);
     void rebuildInput();
+    /// RigOptions::keepViewState: the project's view.json onto the studio just opened (a
+    /// file that cannot be used is a warning, and the defaults).
+    void restoreViewState();
+    /// RigOptions::keepViewState: the session's tool and view to its project's view.json (a
+    /// failure is a warning: it is not work).
+    void keepViewState() const;
 
     core::SculptConfig mConfig;
     RigOptions mOptions;

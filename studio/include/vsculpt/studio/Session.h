@@ -87,6 +87,8 @@ class Session {
     /// a usable point (core::isUsablePoint: a device's garbage pose, a script's 1e300).
     void setZoom(int zoom, const core::Vec3& center);
     int zoom() const { return mZoom; }
+    /// The object-space point setZoom centred the region on (the sphere's centre at zoom 1).
+    const core::Vec3& zoomCentre() const { return mZoomCenter; }
     void setObjectPose(const core::RigidTransform& worldFromObject);
     const core::RigidTransform& objectPose() const { return mWorldFromObject; }
 

@@ -28,7 +28,8 @@ namespace vsculpt::app {
 
 using namespace vsculpt::studio;
 
-RigOptions windowRigOptions(const std::string& projectDir, bool noProject, bool liveDevices) {
+RigOptions windowRigOptions(const std::string& projectDir, bool noProject, bool liveDevices,
+                            bool scripted) {
     RigOptions ro;
     ro.project = noProject            ? ProjectChoice::None
                  : projectDir.empty() ? ProjectChoice::Autosave
@@ -38,6 +39,7 @@ RigOptions windowRigOptions(const std::string& projectDir, bool noProject, bool 
     ro.rememberRecent = true;
     ro.asyncMeshing = true;
     ro.keepViewState = true;
+    ro.restoreViewState = !scripted;
     return ro;
 }
 
@@ -280,18 +282,36 @@ void Rig::openStudio(const std::filesystem::path& dir) {
     restoreViewState();
 }
 
-void Rig::restoreViewState() {
+std::optional<std::string> Rig::restoreViewState() {
     const auto& dir = mStudio->session().projectDir();
-    if (!mOptions.keepViewState || !dir) return;
+    if (!dir) return std::nullopt;
+    if (!mOptions.restoreViewState) {
+        if (mOptions.keepViewState && std::filesystem::exists(studio::viewStatePath(*dir)))
+            spdlog::info(
+                "{} is not read: a --play script or a --record starts from the "
+                "default tool and view, as `vsculpt play` does",
+                studio::viewStatePath(*dir).string());
+        return std::nullopt;
+    }
     const studio::ViewState opened = studio::viewStateOf(mStudio->session());
+    std::string why;
     try {
         if (const auto v = studio::readViewState(*dir)) studio::applyViewState(*mStudio, *v);
+        return std::nullopt;
+    } catch (const studio::SessionError& e) {
+        // The file's values are each in range (readViewState); what the session can still
+        // refuse is a size this config's zoom does not offer (found by QA: the warning named
+        // neither the file nor the field, as if the user had just asked for it).
+        why = studio::viewStatePath(*dir).string() + ": field 'size': " + e.what();
     } catch (const std::exception& e) {
-        // Only the view is lost: the clay and its history are in the snapshot and journal.
-        // Half a view (a pose without its zoom) would mislead more than none.
-        spdlog::warn("{}; starting at the default tool and view", e.what());
-        studio::applyViewState(*mStudio, opened);
+        why = e.what();
     }
+    // Only the view is lost: the clay and its history are in the snapshot and journal. Half a
+    // view (a pose without its zoom) would mislead more than none.
+    studio::applyViewState(*mStudio, opened);
+    why += "; starting at the default tool and view";
+    mStudio->addRecoveryWarning(why);
+    return why;
 }
 
 void Rig::keepViewState() const {
@@ -465,10 +485,11 @@ std::string Rig::openProject(const std::filesystem::path& dir) {
     mInteraction.reset();
     mStudio = std::move(next);
     setUpStudio(*mStudio, mOptions);
-    restoreViewState();
+    const std::optional<std::string> viewLost = restoreViewState();
+    if (viewLost) spdlog::warn("{}", *viewLost);
     rebuildInput();
     rememberLastProject(dir);
-    return saved + "opened " + dir.string();
+    return saved + "opened " + dir.string() + (viewLost ? "; warning: " + *viewLost : "");
 }
 
 std::filesystem::path Rig::defaultExportPath() const {

@@ -92,7 +92,8 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
     }
     // The same studio, project and devices as every session (Rig.h): by default the last
     // project or a new autosave project, every step saved as it is made.
-    const RigOptions ro = windowRigOptions(o.projectDir, o.noProject, o.devices);
+    const RigOptions ro =
+        windowRigOptions(o.projectDir, o.noProject, o.devices, !o.playScript.empty());
     std::unique_ptr<Rig> rig;
     try {
         rig = std::make_unique<Rig>(cfg, ro);

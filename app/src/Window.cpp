@@ -95,7 +95,8 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
     // The studio, its project and the devices, built as for every session (Rig.h). By
     // default the window continues the last project, or starts a new autosave project, so
     // work sculpted here is journaled as it is made and survives a crash.
-    const RigOptions ro = windowRigOptions(o.projectDir, o.noProject, o.devices);
+    const RigOptions ro =
+        windowRigOptions(o.projectDir, o.noProject, o.devices, !o.playScript.empty());
     std::unique_ptr<Rig> rig;
     try {
         rig = std::make_unique<Rig>(cfg, ro);

@@ -114,7 +114,12 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
                      cfg.render.xr.msaaSamples, samples, samples);
     std::unique_ptr<Rig> rig;
     try {
-        rig = std::make_unique<Rig>(cfg, windowRigOptions(o.projectDir, o.noProject, o.devices));
+        // A --play script or a recording starts from the default tool and view, so the
+        // recording replays to the same sculpture (found by QA: it started turned and
+        // carving, from view.json, and its replay did not).
+        rig = std::make_unique<Rig>(
+            cfg, windowRigOptions(o.projectDir, o.noProject, o.devices,
+                                  !o.playScript.empty() || !o.recordPath.empty()));
     } catch (const std::exception& e) {
         spdlog::error("{}", e.what());
         return 2;

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -133,6 +134,11 @@ std::string viewStateJson(const ViewState& state) {
 }
 
 ViewState parseViewState(const std::string& text, const std::string& source) {
+    // nlohmann's parser takes a NUL byte for the end of the text (found by QA: a good file
+    // with garbage after a NUL was read as good); a view file is text.
+    if (const size_t nul = text.find('\0'); nul != std::string::npos)
+        throw std::invalid_argument(source + ": a NUL byte at offset " + std::to_string(nul) +
+                                    " (not a view file)");
     json j;
     try {
         j = json::parse(text);
@@ -192,6 +198,12 @@ std::optional<ViewState> readViewState(const std::filesystem::path& dir) {
     if (!std::filesystem::exists(path, ec)) return std::nullopt;
     if (!std::filesystem::is_regular_file(path, ec))
         throw std::invalid_argument(path.string() + ": not a regular file");
+    // What viewStateJson writes is some 400 bytes (found by QA: a 6 GB file was read whole,
+    // and the window took 14 s to start).
+    constexpr std::uintmax_t kMaxBytes = 64 * 1024;
+    if (const std::uintmax_t size = std::filesystem::file_size(path, ec); !ec && size > kMaxBytes)
+        throw std::invalid_argument(path.string() + ": " + std::to_string(size) +
+                                    " bytes, not a view file (those are under 1 KB)");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw std::invalid_argument(path.string() + ": cannot be opened for reading");
     std::ostringstream text;

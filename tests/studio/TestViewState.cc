@@ -101,6 +101,11 @@ TEST(ViewState, BadFieldsAreRefusedNamingTheFileAndTheField) {
     j.erase("zoom");
     EXPECT_EQ(refusal(j.dump()), "P/view.json: field 'zoom': missing");
     EXPECT_EQ(refusal("[1, 2]"), "P/view.json: not a JSON object");
+    // nlohmann stops at a NUL: what follows one must not pass unread.
+    EXPECT_EQ(refusal(studio::viewStateJson(turnedAndZoomed()) + std::string(1, '\0') + "{"),
+              "P/view.json: a NUL byte at offset " +
+                  std::to_string(studio::viewStateJson(turnedAndZoomed()).size()) +
+                  " (not a view file)");
     // A file cut short (a full disk): the line and column where the text stops.
     const std::string text = studio::viewStateJson(turnedAndZoomed());
     const std::string cut = refusal(text.substr(0, text.size() / 2));

@@ -42,15 +42,20 @@ struct RigOptions {
     /// Mesh on the mesher thread (Session::setAsyncMeshing): the windows, whose frames must
     /// never wait for a rebuild. Playback meshes every edit before the next (the default).
     bool asyncMeshing = false;
-    /// The windows: the tool, size, zoom, mirror and the sculpture's pose are brought back
-    /// from the project's view.json when it opens, and written there on save and close
-    /// (studio/ViewState.h). `vsculpt play` starts from the defaults.
+    /// The windows: the tool, size, zoom, mirror and the sculpture's pose are written to the
+    /// project's view.json on save, close and project switch (studio/ViewState.h)...
     bool keepViewState = false;
+    /// ...and brought back from it when a project opens. Not for `vsculpt play`, nor for a
+    /// window's --play script or a headset's --record: those start from the defaults, so they
+    /// play (and replay) the same whoever left the project last.
+    bool restoreViewState = false;
 };
 
 /// A window's rig: `projectDir` when given, no project with `noProject`, otherwise the last
-/// project or a new autosave project (ProjectChoice::Autosave).
-RigOptions windowRigOptions(const std::string& projectDir, bool noProject, bool liveDevices);
+/// project or a new autosave project (ProjectChoice::Autosave). `scripted`: the session runs a
+/// --play script or records (--record), so it starts from the default tool and view.
+RigOptions windowRigOptions(const std::string& projectDir, bool noProject, bool liveDevices,
+                            bool scripted = false);
 
 /// The folder projects live in by default: $XDG_DATA_HOME/vsculpt (~/.local/share/vsculpt).
 std::filesystem::path dataDir();
@@ -182,9 +187,10 @@ class Rig {
     std::optional<std::string> pollImport(bool wait);
     void openStudio(const std::filesystem::path& dir);
     void rebuildInput();
-    /// RigOptions::keepViewState: the project's view.json onto the studio just opened (a
-    /// file that cannot be used is a warning, and the defaults).
-    void restoreViewState();
+    /// RigOptions::restoreViewState: the project's view.json onto the studio just opened. A
+    /// file that cannot be used leaves the defaults and is returned (also a recovery warning
+    /// of the session's, shown with the journal's).
+    std::optional<std::string> restoreViewState();
     /// RigOptions::keepViewState: the session's tool and view to its project's view.json (a
     /// failure is a warning: it is not work).
     void keepViewState() const;

@@ -187,6 +187,9 @@ class Studio {
 
     SketchPlane plane(size_t pageIndex) const;
     void setPlane(size_t pageIndex, SketchPlane plane);
+    /// Session::addRecoveryWarning: a line about what opening the project had to leave aside
+    /// (the windows' view.json), shown where the journal's recovery is.
+    void addRecoveryWarning(const std::string& line) { mSession->addRecoveryWarning(line); }
 
     /// Drawing on the model: polylines already on the sculpture's surface (object mm) become
     /// surface lines, one step for all of them. Pieces with fewer than two points are

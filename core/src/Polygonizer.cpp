@@ -177,12 +177,25 @@ Polygonizer::Polygonizer(const Sculpture& sculpture, const GridRegion& region, d
             throw std::invalid_argument("polygonizer region lies outside the grid's range");
     if (!(relTolerance > 0)) throw std::invalid_argument("bisection tolerance must be > 0");
     mBlocksPerAxis = region.n / kBlockCells;
-    mBlocks.resize(size_t(mBlocksPerAxis) * mBlocksPerAxis * mBlocksPerAxis);
-    mSums.resize(mBlocks.size());
-    mNoSurfaceBounds.assign(mBlocks.size(), kUnknownBounds);
     mSumsAt = sculpture.store().writeCount();
     const int c = chunksPerAxis();
     mChunkVersions.assign(size_t(c) * c * c, 0);
+    mPages.resize(mChunkVersions.size());
+}
+
+const Polygonizer::BlockMesh& Polygonizer::blockMesh(int bx, int by, int bz) const {
+    static const BlockMesh kEmpty;
+    const ChunkPage* p = pageOf(bx, by, bz);
+    return p ? p->meshes[size_t(pageSlot(bx, by, bz))] : kEmpty;
+}
+
+void Polygonizer::makePages(const BlockList& blocks, size_t begin, size_t end,
+                            const std::vector<char>& skip) const {
+    for (size_t i = begin; i < end; ++i) {
+        if (skip[i]) continue;
+        auto& page = mPages[chunkIndexOf(blocks[i][0], blocks[i][1], blocks[i][2])];
+        if (!page) page = std::make_unique<ChunkPage>();
+    }
 }
 
 Aabb Polygonizer::blockBox(int bx, int by, int bz, int cells) const {
@@ -202,10 +215,13 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out,
     const int64_t gx0 = mRegion.originCell[0] + int64_t(bx) * kBlockCells;
     const int64_t gy0 = mRegion.originCell[1] + int64_t(by) * kBlockCells;
     const int64_t gz0 = mRegion.originCell[2] + int64_t(bz) * kBlockCells;
-    std::unique_ptr<BlockSums>& sums = mSums[blockIndex(bx, by, bz)];
-    if (!sums) throw std::logic_error("Polygonizer::buildBlock: the block has no grid sums");
+    ChunkPage* page = pageOf(bx, by, bz);
+    const size_t slot = size_t(pageSlot(bx, by, bz));
+    if (!page || !page->sums[slot])
+        throw std::logic_error("Polygonizer::buildBlock: the block has no grid sums");
+    std::unique_ptr<BlockSums>& sums = page->sums[slot];
     // The roots of edges no write reached since the last build can be kept (BlockSums).
-    const BlockMesh* old = sums->meshFromSums ? &mBlocks[blockIndex(bx, by, bz)] : nullptr;
+    const BlockMesh* old = sums->meshFromSums ? &page->meshes[slot] : nullptr;
     const double iso = mSculpture.levels().iso();
     double values[V][V][V];
     FieldBounds range{std::numeric_limits<double>::infinity(),
@@ -225,7 +241,7 @@ bool Polygonizer::buildBlock(int bx, int by, int bz, BlockMesh& out,
         // reaches them was most of a re-mesh there (docs/benchmarks.md). A write that may
         // bring a sign change has the block evaluated afresh, to the same sums.
         sums.reset();
-        mNoSurfaceBounds[blockIndex(bx, by, bz)] = range;
+        page->noSurface[slot] = range;
         return false;
     }
     // Whether a write since the old mesh reached the closed box [lo, hi] (the samples of an
@@ -386,9 +402,12 @@ void Polygonizer::blockAxes(int bx, int by, int bz, double* xs, double* ys, doub
 }
 
 void Polygonizer::dropSums() {
-    for (auto& s : mSums)
-        s.reset();
-    std::fill(mNoSurfaceBounds.begin(), mNoSurfaceBounds.end(), kUnknownBounds);
+    for (auto& page : mPages) {
+        if (!page) continue;
+        for (auto& s : page->sums)
+            s.reset();
+        page->noSurface.fill(kUnknownBounds);
+    }
 }
 
 size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
@@ -425,9 +444,13 @@ size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
         for (int bx = lo[0]; bx <= hi[0]; ++bx)
             for (int by = lo[1]; by <= hi[1]; ++by)
                 for (int bz = lo[2]; bz <= hi[2]; ++bz) {
-                    const size_t idx = blockIndex(bx, by, bz);
-                    FieldBounds& kept = mNoSurfaceBounds[idx];
-                    if (!mSums[idx] && kept.min > kept.max) continue;
+                    // Without a page the block keeps neither sums nor bounds: nothing to update.
+                    ChunkPage* page = pageOf(bx, by, bz);
+                    if (!page) continue;
+                    const size_t slot = size_t(pageSlot(bx, by, bz));
+                    FieldBounds& kept = page->noSurface[slot];
+                    const bool withSums = page->sums[slot] != nullptr;
+                    if (!withSums && kept.min > kept.max) continue;
                     // Nothing to do for a block the write does not reach (a third of the range
                     // and more: the ball's corners and the range's slack): f there is the same,
                     // bit for bit (LocalField gathers by the same distance, without the margin).
@@ -435,8 +458,8 @@ size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
                     const Vec3 nearest = glm::clamp(c, box.min, box.max);
                     const double d2 = glm::dot(c - nearest, c - nearest);
                     if (d2 >= t.reach2) continue;
-                    if (mSums[idx]) {
-                        hits.emplace_back(uint32_t(idx), uint32_t(terms.size()));
+                    if (withSums) {
+                        hits.emplace_back(uint32_t(blockIndex(bx, by, bz)), uint32_t(terms.size()));
                         continue;
                     }
                     // The change's term over the block lies between 0 and delta F at the
@@ -471,11 +494,8 @@ size_t Polygonizer::noteWrites(std::span<const SkeletonWrite> writes) {
     parallelFor(mWorkers, groups.size(), 8, [&](size_t g0, size_t g1) {
         for (size_t g = g0; g < g1; ++g) {
             const auto [first, last] = groups[g];
-            const uint32_t idx = hits[first].first;
-            std::unique_ptr<BlockSums>& sums = mSums[idx];
-            const int bz = int(idx % size_t(mBlocksPerAxis)),
-                      by = int(idx / size_t(mBlocksPerAxis) % size_t(mBlocksPerAxis)),
-                      bx = int(idx / (size_t(mBlocksPerAxis) * size_t(mBlocksPerAxis)));
+            const auto [bx, by, bz] = blockAt(hits[first].first);
+            BlockSums* sums = sumsOf(bx, by, bz);
             constexpr int V = kBlockCells + 1;
             double xs[V], ys[V], zs[V];
             blockAxes(bx, by, bz, xs, ys, zs);
@@ -526,6 +546,8 @@ void Polygonizer::evaluateMissingSums(const BlockList& blocks, size_t begin, siz
     tbb::combinable<size_t> gathers([] { return size_t(0); });
     std::vector<char> freshFromBegin(end - begin, 0);
     auto fresh = [&](size_t i) -> char& { return freshFromBegin[i - begin]; };
+    // The pages step 1 may write to, made here while nothing else runs.
+    makePages(blocks, begin, end, culled);
     // 1. Which blocks need their sums: gathered, and their bounds tested.
     forEach([&](size_t i) {
         if (culled[i]) return;
@@ -534,9 +556,10 @@ void Polygonizer::evaluateMissingSums(const BlockList& blocks, size_t begin, siz
             return;
         }
         const auto& b = blocks[i];
-        const size_t idx = blockIndex(b[0], b[1], b[2]);
-        if (mSums[idx]) return;
-        FieldBounds& kept = mNoSurfaceBounds[idx];
+        ChunkPage& page = *pageOf(b[0], b[1], b[2]);
+        const size_t slot = size_t(pageSlot(b[0], b[1], b[2]));
+        if (page.sums[slot]) return;
+        FieldBounds& kept = page.noSurface[slot];
         if (kept.min <= kept.max && !kept.mayContainSurface()) {
             culled[i] = 1;
             return;
@@ -550,7 +573,7 @@ void Polygonizer::evaluateMissingSums(const BlockList& blocks, size_t begin, siz
             return;
         }
         kept = kUnknownBounds;
-        mSums[idx] = std::make_unique<BlockSums>();
+        page.sums[slot] = std::make_unique<BlockSums>();
         fields[i] = std::move(field);
         fresh(i) = 1;
     });
@@ -562,7 +585,8 @@ void Polygonizer::evaluateMissingSums(const BlockList& blocks, size_t begin, siz
         // Half-made sums are dropped; those blocks are left stale, as the cancel asks.
         for (size_t i = begin; i < end; ++i)
             if (fresh(i)) {
-                mSums[blockIndex(blocks[i][0], blocks[i][1], blocks[i][2])].reset();
+                const auto& b = blocks[i];
+                pageOf(b[0], b[1], b[2])->sums[size_t(pageSlot(b[0], b[1], b[2]))].reset();
                 fields[i].reset();
                 finished[i] = 0;
             }
@@ -589,7 +613,7 @@ void Polygonizer::evaluateMissingSums(const BlockList& blocks, size_t begin, siz
         FixedSum part[V * V * V];
         fields[i]->gridSums(std::span(xs, size_t(ex)), std::span(ys, size_t(ey)),
                             std::span(zs, size_t(ez)), part);
-        auto& values = mSums[blockIndex(b[0], b[1], b[2])]->values;
+        auto& values = sumsOf(b[0], b[1], b[2])->values;
         for (int x = 0; x < ex; ++x)
             for (int y = 0; y < ey; ++y)
                 for (int z = 0; z < ez; ++z)
@@ -608,7 +632,7 @@ void Polygonizer::evaluateMissingSums(const BlockList& blocks, size_t begin, siz
         if (!fresh(i)) return;
         const auto& b = blocks[i];
         const int ex = ownExtent(b, 0), ey = ownExtent(b, 1), ez = ownExtent(b, 2);
-        auto& values = mSums[blockIndex(b[0], b[1], b[2])]->values;
+        auto& values = sumsOf(b[0], b[1], b[2])->values;
         for (int x = 0; x < V; ++x)
             for (int y = 0; y < V; ++y)
                 for (int z = 0; z < V; ++z) {
@@ -627,14 +651,28 @@ void Polygonizer::evaluateMissingSums(const BlockList& blocks, size_t begin, siz
                         }
                     }
                     values[size_t((x * V + y) * V + z)] =
-                        mSums[blockIndex(at[0], at[1], at[2])]
+                        sumsOf(at[0], at[1], at[2])
                             ->values[size_t((local[0] * V + local[1]) * V + local[2])];
                 }
     });
 }
 
+std::vector<char> Polygonizer::cullChunks(bool threaded) const {
+    // One bounds test per chunk saves one per block in the (many) empty chunks.
+    const int c = chunksPerAxis();
+    std::vector<char> chunkCulled(size_t(c) * c * c, 0);
+    auto testChunk = [&](size_t idx) {
+        const int cx = int(idx / (size_t(c) * c)), cy = int(idx / c % c), cz = int(idx % c);
+        const int per = kBlocksPerChunkAxis;
+        const LocalField field(mSculpture, blockBox(cx * per, cy * per, cz * per, kChunkCells));
+        chunkCulled[idx] = !field.bounds().mayContainSurface();
+    };
+    forEachIndex(mWorkers, threaded, 0, chunkCulled.size(), testChunk, 16);
+    return chunkCulled;
+}
+
 PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& blocks, bool threaded,
-                                     bool cullChunksFirst, const std::atomic<bool>* cancel) {
+                                     std::vector<char> culled, const std::atomic<bool>* cancel) {
     // Kept sums are current only if every write since they were made was noted.
     if (mSculpture.store().writeCount() != mSumsAt) {
         dropSums();
@@ -642,24 +680,7 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
     }
     PolygonizeStats stats;
     stats.blocksConsidered = blocks.size();
-    std::vector<char> culled(blocks.size(), 0);
-    if (cullChunksFirst) {
-        // One bounds test per chunk saves one per block in the (many) empty chunks.
-        const int c = chunksPerAxis();
-        std::vector<char> chunkCulled(size_t(c) * c * c, 0);
-        auto testChunk = [&](size_t idx) {
-            const int cx = int(idx / (size_t(c) * c)), cy = int(idx / c % c), cz = int(idx % c);
-            const int per = kChunkCells / kBlockCells;
-            const LocalField field(mSculpture, blockBox(cx * per, cy * per, cz * per, kChunkCells));
-            chunkCulled[idx] = !field.bounds().mayContainSurface();
-        };
-        forEachIndex(mWorkers, threaded, 0, chunkCulled.size(), testChunk, 16);
-        const int per = kChunkCells / kBlockCells;
-        for (size_t i = 0; i < blocks.size(); ++i) {
-            const auto& b = blocks[i];
-            culled[i] = chunkCulled[(size_t(b[0] / per) * c + b[1] / per) * c + b[2] / per];
-        }
-    }
+    if (culled.empty()) culled.assign(blocks.size(), 0);
     std::vector<char> changed(blocks.size(), 0);
     // 1: rebuilt; 0: skipped after a cancel (still stale).
     std::vector<char> finished(blocks.size(), 1);
@@ -681,7 +702,7 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
             !buildBlock(b[0], b[1], b[2], fresh, fields[i], evals.local(), gathered.local()))
             culled[i] = 1;
         fields[i].reset();
-        BlockMesh& slot = mBlocks[blockIndex(b[0], b[1], b[2])];
+        const BlockMesh& slot = blockMesh(b[0], b[1], b[2]);
         // Which neighbouring blocks see a difference: bit s (0..7) set when the blocks at
         // offset -s (bit 0 = x, 1 = y, 2 = z) use something that changed. Bit 0: this block.
         // Vertices it owns on its low faces are used by cells of the blocks below.
@@ -714,7 +735,10 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
             }
         }
         if (what) {
-            slot = fresh;
+            // A block with a mesh, old or new, was evaluated once: its page exists.
+            ChunkPage* page = pageOf(b[0], b[1], b[2]);
+            if (!page) throw std::logic_error("Polygonizer: a changed block has no page");
+            page->meshes[size_t(pageSlot(b[0], b[1], b[2]))] = fresh;
             changed[i] = char(what);
         }
     };
@@ -762,21 +786,37 @@ PolygonizeStats Polygonizer::rebuild(const std::vector<std::array<int, 3>>& bloc
 }
 
 PolygonizeStats Polygonizer::rebuildAll(bool threaded, const std::atomic<bool>* cancel) {
+    // Only the blocks of chunks that may hold surface, and of chunks that kept something (a
+    // mesh to clear, sums): every other block has an empty mesh now and had one before, so
+    // listing it (12 bytes each, 200 MB for a 1024^3-cell grid) would change nothing.
+    const std::vector<char> chunkCulled = cullChunks(threaded);
     std::vector<std::array<int, 3>> blocks;
-    blocks.reserve(mBlocks.size());
+    std::vector<char> culled;
+    size_t skipped = 0;
     for (int x = 0; x < mBlocksPerAxis; ++x)
         for (int y = 0; y < mBlocksPerAxis; ++y)
-            for (int z = 0; z < mBlocksPerAxis; ++z)
+            for (int z = 0; z < mBlocksPerAxis; ++z) {
+                const size_t chunk = chunkIndexOf(x, y, z);
+                if (chunkCulled[chunk] && !mPages[chunk]) {
+                    ++skipped;
+                    continue;
+                }
                 blocks.push_back({x, y, z});
-    return rebuild(blocks, threaded, true, cancel);
+                culled.push_back(chunkCulled[chunk]);
+            }
+    PolygonizeStats stats = rebuild(blocks, threaded, std::move(culled), cancel);
+    // Counted as the whole region, as if each skipped block had been listed and culled.
+    stats.blocksConsidered += skipped;
+    stats.blocksCulled += skipped;
+    return stats;
 }
 
 PolygonizeStats Polygonizer::update(const Aabb& changed, bool threaded) {
-    return rebuild(blocksTouching(changed), threaded, false);
+    return rebuild(blocksTouching(changed), threaded, {});
 }
 
 PolygonizeStats Polygonizer::update(std::span<const Vec3> points, double radius, bool threaded) {
-    return rebuild(blocksNear(points, radius), threaded, false);
+    return rebuild(blocksNear(points, radius), threaded, {});
 }
 
 PolygonizeStats Polygonizer::rebuildBlocks(const BlockList& blocks, bool threaded,
@@ -785,7 +825,7 @@ PolygonizeStats Polygonizer::rebuildBlocks(const BlockList& blocks, bool threade
         for (int a = 0; a < 3; ++a)
             if (b[a] < 0 || b[a] >= mBlocksPerAxis)
                 throw std::out_of_range("polygonizer: block index outside the region");
-    return rebuild(blocks, threaded, false, cancel);
+    return rebuild(blocks, threaded, {}, cancel);
 }
 
 Polygonizer::BlockList Polygonizer::blocksTouching(const Aabb& changed) const {
@@ -806,7 +846,7 @@ Polygonizer::BlockList Polygonizer::blocksTouching(const Aabb& changed) const {
 Polygonizer::BlockList Polygonizer::blocksNear(std::span<const Vec3> points, double radius) const {
     if (points.empty()) return {};
     const double r2 = radius * radius;
-    std::vector<char> marked(mBlocks.size(), 0);
+    std::vector<char> marked(size_t(mBlocksPerAxis) * mBlocksPerAxis * mBlocksPerAxis, 0);
     std::vector<std::array<int, 3>> blocks;
     for (const Vec3& p : points) {
         std::array<int, 3> lo{}, hi{};
@@ -843,7 +883,7 @@ const Polygonizer::EdgeVertex& Polygonizer::findVertex(uint64_t key) const {
     if (bx < 0 || by < 0 || bz < 0 || bx >= mBlocksPerAxis || by >= mBlocksPerAxis ||
         bz >= mBlocksPerAxis)
         throw std::logic_error("polygonizer: a triangle uses an edge outside the region");
-    const auto& verts = mBlocks[blockIndex(bx, by, bz)].vertices;
+    const auto& verts = blockMesh(bx, by, bz).vertices;
     auto it = std::lower_bound(verts.begin(), verts.end(), key,
                                [](const EdgeVertex& v, uint64_t k) { return v.key < k; });
     if (it == verts.end() || it->key != key)
@@ -868,8 +908,12 @@ void Polygonizer::appendBlock(const BlockMesh& b, Mesh& m,
 Mesh Polygonizer::mesh() const {
     Mesh m;
     std::unordered_map<uint64_t, uint32_t> index;
-    for (const BlockMesh& b : mBlocks)
-        appendBlock(b, m, index);
+    // In block order (x, then y, then z), whatever the pages: the mesh's vertex order.
+    for (int x = 0; x < mBlocksPerAxis; ++x)
+        for (int y = 0; y < mBlocksPerAxis; ++y)
+            for (int z = 0; z < mBlocksPerAxis; ++z)
+                if (const ChunkPage* p = pageOf(x, y, z))
+                    appendBlock(p->meshes[size_t(pageSlot(x, y, z))], m, index);
     return m;
 }
 
@@ -894,7 +938,7 @@ Mesh Polygonizer::chunkMesh(int cx, int cy, int cz) const {
     for (int x = cx * per; x < (cx + 1) * per; ++x)
         for (int y = cy * per; y < (cy + 1) * per; ++y)
             for (int z = cz * per; z < (cz + 1) * per; ++z)
-                triangles += mBlocks[blockIndex(x, y, z)].triangles.size();
+                triangles += blockMesh(x, y, z).triangles.size();
     Mesh m;
     if (triangles == 0) return m;
     m.positions.reserve(triangles);
@@ -925,8 +969,8 @@ Mesh Polygonizer::chunkMesh(int cx, int cy, int cz) const {
     };
     const BlockMesh* own[per * per * per];
     for (int b = 0; b < per * per * per; ++b) {
-        own[b] = &mBlocks[blockIndex(cx * per + b / (per * per), cy * per + b / per % per,
-                                     cz * per + b % per)];
+        own[b] =
+            &blockMesh(cx * per + b / (per * per), cy * per + b / per % per, cz * per + b % per);
         for (size_t i = 0; i < own[b]->vertices.size(); ++i)
             slotOf(own[b]->vertices[i].key) = kSource | uint32_t(b) << 16 | uint32_t(i);
     }

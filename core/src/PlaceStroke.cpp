@@ -540,7 +540,15 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
         const Vec3 t = ab / std::sqrt(len2);
         const Vec3 across = n - glm::dot(n, t) * t;
         const double l = glm::length(across);
-        return {foot, l > 1e-6 ? across / l : n};
+        if (l > 1e-6) return {foot, across / l};
+        // n along the stroke: a plunge down the surface's normal (found by QA: straight down the
+        // initial sphere's axis a carve left a plug of clay floating in the hole's mouth). Every
+        // point of the tube's circle there is as far along n, and n itself points inside the
+        // tube, where the fit held the field at c: the new surface passes beside the vertex,
+        // at the circle's point nearest it. A vertex on the path has none (no direction).
+        const Vec3 lateral = x - foot;
+        const double ll = glm::length(lateral);
+        return {foot, ll > 1e-6 * tl.spacingMm ? lateral / ll : Vec3(0.0)};
     };
     // Whether a vertex lies as near the mirrored path as the original (to rounding): it is
     // then decided alike for both, so that it stays symmetric.
@@ -563,7 +571,8 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
             if (glm::length(f.first - g.first) > 1e-9 * (df + tl.spacingMm)) return f;
             const Vec3 d = f.second + g.second;
             const double l = glm::length(d);
-            return {0.5 * (f.first + g.first), l > 1e-9 ? d / l : n};
+            const bool none = f.second == Vec3(0.0) && g.second == Vec3(0.0);
+            return {0.5 * (f.first + g.first), l > 1e-9 ? d / l : none ? Vec3(0.0) : n};
         }
         return df < dg ? f : g;
     };
@@ -607,10 +616,11 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
             t.emptyAim = true;
             return centre + d * (radius / l);
         }
-        mAnyControl = true;
         // The gradient points into the material.
         const Vec3 n = t.gradient * ((mOp == ToolOp::Add ? -1.0 : 1.0) / t.grad);
         const auto [foot, d] = extremeOf(pos, n);
+        if (d == Vec3(0.0)) return std::nullopt;  // on the path of a plunge: no extreme point
+        mAnyControl = true;
         return foot + d * radius;
     };
 

@@ -687,6 +687,39 @@ size_t spineChains(unsigned seed) {
     return analyzeTopology(poly.mesh()).components;
 }
 
+// A carve plunged straight down the surface's normal (found by QA: down the initial sphere's
+// axis, sizes 3-7, a lid of clay floated in the hole's mouth, z 31-39 for size 5). There the
+// pre-stroke normal runs along the stroke, and the control point of each vertex on the sphere's
+// axis lay inside the tube, where the fit held the field at c. The hole must be open all the
+// way down its axis, and the clay one piece.
+TEST(CarveDepth, APlungeDownTheNormalLeavesAnOpenHole) {
+    for (int k : {3, 5, 7})
+        for (double off : {0.0, 1.0}) {  // on the sphere's axis, and beside it
+            SculptConfig cfg;            // the default sphere, steep core included
+            cfg.sphereRadiusMm = 40;
+            Sculpture s(cfg);
+            const double rho = 0.5 * s.levels().level(k).diameterMm;
+            // As the QA's script drew it: one segment from above the surface to 30 mm inside.
+            applyStroke(s, ToolOp::Carve, k, std::vector<Vec3>{Vec3(off, 0, 55), Vec3(off, 0, 10)});
+            FieldProbe probe(s);
+            // Empty along the stroke's axis from above the surface down to the tool's centre
+            // at the stroke's end (the groove-depth tests hold the floor itself).
+            double worst = -1e300;
+            for (double z = 10; z <= 42; z += 0.05 * rho)
+                worst = std::max(worst, probe.value(Vec3(off, 0, z)));
+            EXPECT_LT(worst, 0) << "size " << k << " off " << off;
+            GridRegion region;
+            region.spacingMm = 0.25 * rho;
+            region.n = 16 * int(std::ceil(100 / region.spacingMm / 16));
+            const int64_t half = region.n / 2;
+            region.originCell = {-half, -half, -half};
+            Polygonizer poly(s, region, 1e-2);
+            poly.rebuildAll();
+            EXPECT_EQ(analyzeTopology(poly.mesh()).components, 1u)
+                << "size " << k << " off " << off;
+        }
+}
+
 TEST(CarveDepth, ChainsOfSpinesStayInOnePiece) {
     for (unsigned seed : {3u, 4u, 5u, 6u})
         EXPECT_EQ(spineChains(seed), 1u) << "seed " << seed;

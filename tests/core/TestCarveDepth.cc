@@ -25,6 +25,7 @@
 #include <memory>
 #include <numbers>
 #include <random>
+#include <sstream>
 
 using namespace vsculpt::core;
 using vsculpt::test::emptyConfig;
@@ -688,36 +689,39 @@ size_t spineChains(unsigned seed) {
 }
 
 // A carve plunged straight down the surface's normal (found by QA: down the initial sphere's
-// axis, sizes 3-7, a lid of clay floated in the hole's mouth, z 31-39 for size 5). There the
-// pre-stroke normal runs along the stroke, and the control point of each vertex on the sphere's
-// axis lay inside the tube, where the fit held the field at c. The hole must be open all the
-// way down its axis, and the clay one piece.
+// axis, sizes 3-6, a lid of clay floated in the hole's mouth, z 31-39 for size 5). There the
+// pre-stroke normal runs along the stroke, and the control point of each vertex on the axis lay
+// inside the tube, where the fit held the field at c. The hole must be open all the way down
+// its axis and the clay one piece. (How deep such a plunge reaches is not held here: ending deep
+// inside it stops short of the tool; docs/placement.md "What remains".)
 TEST(CarveDepth, APlungeDownTheNormalLeavesAnOpenHole) {
-    for (int k : {3, 5, 7})
-        for (double off : {0.0, 1.0}) {  // on the sphere's axis, and beside it
-            SculptConfig cfg;            // the default sphere, steep core included
-            cfg.sphereRadiusMm = 40;
-            Sculpture s(cfg);
-            const double rho = 0.5 * s.levels().level(k).diameterMm;
-            // As the QA's script drew it: one segment from above the surface to 30 mm inside.
-            applyStroke(s, ToolOp::Carve, k, std::vector<Vec3>{Vec3(off, 0, 55), Vec3(off, 0, 10)});
-            FieldProbe probe(s);
-            // Empty along the stroke's axis from above the surface down to the tool's centre
-            // at the stroke's end (the groove-depth tests hold the floor itself).
-            double worst = -1e300;
-            for (double z = 10; z <= 42; z += 0.05 * rho)
-                worst = std::max(worst, probe.value(Vec3(off, 0, z)));
-            EXPECT_LT(worst, 0) << "size " << k << " off " << off;
-            GridRegion region;
-            region.spacingMm = 0.25 * rho;
-            region.n = 16 * int(std::ceil(100 / region.spacingMm / 16));
-            const int64_t half = region.n / 2;
-            region.originCell = {-half, -half, -half};
-            Polygonizer poly(s, region, 1e-2);
-            poly.rebuildAll();
-            EXPECT_EQ(analyzeTopology(poly.mesh()).components, 1u)
-                << "size " << k << " off " << off;
-        }
+    for (int k : {3, 5, 6, 7})
+        for (double end : {0.0, 20.0})
+            for (double off : {0.0, 1.0}) {  // on the sphere's axis, and beside it
+                SculptConfig cfg;            // the default sphere, steep core included
+                cfg.sphereRadiusMm = 40;
+                Sculpture s(cfg);
+                const double rho = 0.5 * s.levels().level(k).diameterMm;
+                // As the QA's script drew it: one segment from above the surface.
+                applyStroke(s, ToolOp::Carve, k,
+                            std::vector<Vec3>{Vec3(off, 0, 55), Vec3(off, 0, end)});
+                FieldProbe probe(s);
+                std::ostringstream what;
+                what << "size " << k << " to z " << end << " off " << off;
+                double worst = -1e300;
+                for (double z = end; z <= 42; z += 0.05 * rho)
+                    worst = std::max(worst, probe.value(Vec3(off, 0, z)));
+                EXPECT_LT(worst, 0) << what.str();
+                if (end != 0) continue;  // one mesh per size and side is enough
+                GridRegion region;
+                region.spacingMm = 0.25 * rho;
+                region.n = 16 * int(std::ceil(100 / region.spacingMm / 16));
+                const int64_t half = region.n / 2;
+                region.originCell = {-half, -half, -half};
+                Polygonizer poly(s, region, 1e-2);
+                poly.rebuildAll();
+                EXPECT_EQ(analyzeTopology(poly.mesh()).components, 1u) << what.str();
+            }
 }
 
 TEST(CarveDepth, ChainsOfSpinesStayInOnePiece) {

@@ -15,7 +15,6 @@
 #include "vsculpt/render/Viewer.h"
 #include "vsculpt/studio/PickTool.h"
 #include "vsculpt/studio/Script.h"
-#include "vsculpt/studio/ViewState.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>  // key codes only

@@ -371,6 +371,33 @@ void parseImport(const std::string& full, const LineParser& p, const std::string
 
 }  // namespace
 
+const char* toString(ToolKind tool) {
+    switch (tool) {
+        case ToolKind::Add:
+            return "add";
+        case ToolKind::Carve:
+            return "carve";
+        case ToolKind::Smooth:
+            return "smooth";
+        case ToolKind::Select:
+            break;
+    }
+    return "select";
+}
+
+std::optional<ToolKind> toolKindNamed(std::string_view name) {
+    for (ToolKind t : {ToolKind::Add, ToolKind::Carve, ToolKind::Smooth, ToolKind::Select})
+        if (name == toString(t)) return t;
+    return std::nullopt;
+}
+
+std::optional<core::MirrorAxis> mirrorAxisNamed(std::string_view name) {
+    for (core::MirrorAxis a :
+         {core::MirrorAxis::None, core::MirrorAxis::X, core::MirrorAxis::Y, core::MirrorAxis::Z})
+        if (name == core::toString(a)) return a;
+    return std::nullopt;
+}
+
 Script parseScript(std::string_view text, const std::string& source) {
     Script script;
     script.source = source;
@@ -422,27 +449,15 @@ Script parseScript(std::string_view text, const std::string& source) {
         if (cmd == "tool") {
             arity(1, 1, "one of add, carve, smooth, select");
             c.kind = ScriptCommand::Kind::Tool;
-            if (w[1] == "add")
-                c.tool = ToolKind::Add;
-            else if (w[1] == "carve")
-                c.tool = ToolKind::Carve;
-            else if (w[1] == "smooth")
-                c.tool = ToolKind::Smooth;
-            else if (w[1] == "select")
-                c.tool = ToolKind::Select;
+            if (const auto t = toolKindNamed(w[1]))
+                c.tool = *t;
             else
                 p.fail("unknown tool '" + w[1] + "' (use add, carve, smooth or select)");
         } else if (cmd == "mirror") {
             arity(1, 1, "one of x, y, z, off");
             c.kind = ScriptCommand::Kind::Mirror;
-            if (w[1] == "x")
-                c.mirror = core::MirrorAxis::X;
-            else if (w[1] == "y")
-                c.mirror = core::MirrorAxis::Y;
-            else if (w[1] == "z")
-                c.mirror = core::MirrorAxis::Z;
-            else if (w[1] == "off")
-                c.mirror = core::MirrorAxis::None;
+            if (const auto a = mirrorAxisNamed(w[1]))
+                c.mirror = *a;
             else
                 p.fail("unknown mirror plane '" + w[1] + "' (use x, y, z or off)");
         } else if (cmd == "size") {

@@ -79,20 +79,6 @@ class Fields {
 
 }  // namespace
 
-const char* toString(ToolKind tool) {
-    switch (tool) {
-        case ToolKind::Add:
-            return "add";
-        case ToolKind::Carve:
-            return "carve";
-        case ToolKind::Smooth:
-            return "smooth";
-        case ToolKind::Select:
-            break;
-    }
-    return "select";
-}
-
 ViewState viewStateOf(const Session& session) {
     ViewState v;
     v.tool = session.tool();
@@ -153,25 +139,13 @@ ViewState parseViewState(const std::string& text, const std::string& source) {
                               std::to_string(kVersion) + ")");
     ViewState v;
     const std::string tool = f.text("tool");
-    if (tool == "add")
-        v.tool = ToolKind::Add;
-    else if (tool == "carve")
-        v.tool = ToolKind::Carve;
-    else if (tool == "smooth")
-        v.tool = ToolKind::Smooth;
-    else if (tool == "select")
-        v.tool = ToolKind::Select;
+    if (const auto t = toolKindNamed(tool))
+        v.tool = *t;
     else
         f.fail("tool", "'" + tool + "' is not add, carve, smooth or select");
     const std::string mirror = f.text("mirror");
-    if (mirror == "x")
-        v.mirror = core::MirrorAxis::X;
-    else if (mirror == "y")
-        v.mirror = core::MirrorAxis::Y;
-    else if (mirror == "z")
-        v.mirror = core::MirrorAxis::Z;
-    else if (mirror == "off")
-        v.mirror = core::MirrorAxis::None;
+    if (const auto a = mirrorAxisNamed(mirror))
+        v.mirror = *a;
     else
         f.fail("mirror", "'" + mirror + "' is not x, y, z or off");
     v.size = f.integer("size", 1, 7);

@@ -26,6 +26,12 @@ class ScriptError : public std::runtime_error {
 };
 
 enum class ToolKind { Add, Carve, Smooth, Select };
+/// "add", "carve", "smooth", "select": the names scripts and view.json use.
+const char* toString(ToolKind tool);
+/// The tool of that name (toString's), if any.
+std::optional<ToolKind> toolKindNamed(std::string_view name);
+/// The mirror plane of that name: "x", "y", "z", "off" (core::toString's), if any.
+std::optional<core::MirrorAxis> mirrorAxisNamed(std::string_view name);
 
 /// One pen sample of a scripted sketch stroke (docs/playback.md, "Sketch commands"): canvas
 /// mm (whatever the page's view), optional pressure 0..1 and time in seconds.

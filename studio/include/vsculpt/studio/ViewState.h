@@ -42,9 +42,6 @@ struct ViewState {
     }
 };
 
-/// "add", "carve", "smooth", "select": the script's and the file's names.
-const char* toString(ToolKind tool);
-
 /// The session's tool, size, zoom (the middle of its region), mirror plane and pose.
 ViewState viewStateOf(const Session& session);
 

@@ -510,8 +510,17 @@ void Studio::noteSculptSteps() {
     if (n == mSculptSteps) return;
     if (n < mSculptSteps)
         throw std::logic_error("the session undid a step behind the studio's timeline");
-    for (; mSculptSteps < n; ++mSculptSteps)
+    for (; mSculptSteps < n; ++mSculptSteps) {
         push(Step{false, 0});
+        // Said, or the brush looks broken (found by QA: sizes 3-4 over a size-5 ridge, size 1
+        // over size-2 dabs left the clay bit for bit as it was). Smooth relaxes the weights of
+        // sizes up to its own (docs/placement.md).
+        const core::StrokeRecord& r = mSession->history().done()[mSculptSteps];
+        if (r.op == core::ToolOp::Smooth && !r.solid && r.changes.empty())
+            tell("smooth size " + std::to_string(r.level) +
+                 " changed nothing here: the clay under it is already smooth at that size, or "
+                 "was made with larger sizes (smooth relaxes clay of sizes up to its own)");
+    }
     writeSketchFileUnlessJournalTellsIt();
 }
 

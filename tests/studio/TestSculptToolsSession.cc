@@ -133,3 +133,27 @@ TEST(SculptToolsSession, TheToolCycleOffersSmoothAndMirrorCycles) {
 }
 
 }  // namespace
+
+// A smooth brush smaller than the clay's tool changes nothing (it relaxes the weights of sizes
+// up to its own): said, or the sculptor takes the brush for broken (found by QA). A smooth
+// that changes something says nothing.
+TEST(SculptToolsSession, ASmoothThatChangesNothingSaysSo) {
+    Studio studio(smallConfig());
+    std::vector<std::string> told;
+    studio.setNoticeSink([&](const std::string& note) { told.push_back(note); });
+    studio.setSize(5);
+    studio.stroke({core::Vec3(-20, 0, 40), core::Vec3(0, 0, 44), core::Vec3(20, 0, 40)}, false);
+    studio.setZoom(3, core::Vec3(0, 0, 44));
+    studio.setTool(ToolKind::Smooth);
+    studio.setSize(3);
+    studio.stroke({core::Vec3(-8, 0, 45), core::Vec3(8, 0, 45)}, false);
+    ASSERT_EQ(studio.session().history().done().size(), 2u);
+    ASSERT_TRUE(studio.session().history().done().back().changes.empty());
+    ASSERT_EQ(told.size(), 1u);
+    EXPECT_EQ(told[0].rfind("smooth size 3 changed nothing here", 0), 0u) << told[0];
+    // A size-5 brush over the same ridge relaxes it, and is not told about.
+    studio.setSize(5);
+    studio.stroke({core::Vec3(-8, 0, 45), core::Vec3(8, 0, 45)}, false);
+    EXPECT_FALSE(studio.session().history().done().back().changes.empty());
+    EXPECT_EQ(told.size(), 1u);
+}

@@ -420,6 +420,13 @@ SculptConfig parseConfigText(std::string_view jsonText, const std::string& sourc
                            "expected an integer 0..2, got " + v->dump());
         cfg.finerLatticeLevels = v->get<int>();
     }
+    if (stored && !placement.find("smooth_keeps_volume")) cfg.smoothKeepsVolume = false;
+    if (const json* v = placement.find("smooth_keeps_volume")) {
+        if (!v->is_boolean())
+            placement.fail("placement.smooth_keeps_volume",
+                           "expected true or false, got " + v->dump());
+        cfg.smoothKeepsVolume = v->get<bool>();
+    }
     placement.rejectUnknown();
 
     Section sphere = top.sub("initial_sphere");
@@ -627,8 +634,9 @@ SculptConfig loadConfig(const std::filesystem::path& path) {
     // Refused, not taken as the defaults (a file emptied by accident would silently lose every
     // setting), but said plainly (found by QA: "invalid JSON" of a file made with `touch`).
     if (text.str().find_first_not_of(" \t\r\n") == std::string::npos)
-        throw ConfigError(path.string() + ": empty; a config holds at least {} (every key is "
-                                          "optional: {} is the built-in defaults)" +
+        throw ConfigError(path.string() +
+                          ": empty; a config holds at least {} (every key is "
+                          "optional: {} is the built-in defaults)" +
                           namedBy);
     return parseConfig(text.str(), path.string());
 }
@@ -795,7 +803,8 @@ std::string configToJson(const SculptConfig& c) {
     else
         j["field"]["support"] = "calibrate";
     j["placement"] = {{"mode", toString(c.placement)},
-                      {"finer_lattice_levels", c.finerLatticeLevels}};
+                      {"finer_lattice_levels", c.finerLatticeLevels},
+                      {"smooth_keeps_volume", c.smoothKeepsVolume}};
     j["initial_sphere"] = {
         {"radius_mm", c.sphereRadiusMm},
         {"center_mm", {c.sphereCenterMm.x, c.sphereCenterMm.y, c.sphereCenterMm.z}},

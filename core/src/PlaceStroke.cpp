@@ -3,6 +3,7 @@
 
 #include "vsculpt/core/DeconvolutionStencil.h"
 #include "vsculpt/core/EvalField.h"
+#include "vsculpt/core/KeepSmoothedVolume.h"
 #include "vsculpt/core/Sculpture.h"
 #include "vsculpt/core/SweptVertices.h"
 
@@ -815,6 +816,8 @@ EditResult StrokeBuilder::finish() {
         }
         mFinishingCap = false;
     }
+    if (mOp == ToolOp::Smooth && !mFinished && mSculpture.config().smoothKeepsVolume)
+        result = keepSmoothedVolume();
     mFinished = true;
     if (mHeld.empty()) return result;
     std::vector<std::pair<LatticeCoord, std::optional<float>>> held(mHeld.begin(), mHeld.end());
@@ -945,6 +948,42 @@ EditResult StrokeBuilder::addSmoothSample(const Vec3& a, const Vec3& p) {
             const Vec3 pos = vertexPos(sv.coord, tl.spacingMm);
             noteChanged(result, changed, pos);
         }
+    }
+    result.changedRegion = changed.padded(support);
+    result.supportMm = support;
+    return result;
+}
+
+EditResult StrokeBuilder::keepSmoothedVolume() {
+    EditResult result;
+    // A smooth stroke records a vertex again each time the path comes closer to it: the net
+    // change per vertex, in the order the vertices were first changed.
+    std::map<std::tuple<int, int, int, int>, size_t> index;
+    std::vector<SkeletonChange> net;
+    SkeletonStore& store = mSculpture.store();
+    for (const SkeletonChange& c : mChanges) {
+        const auto [it, first] =
+            index.try_emplace({c.level, c.coord.x, c.coord.y, c.coord.z}, net.size());
+        if (first) net.push_back(SkeletonChange{c.level, c.coord, c.before, std::nullopt});
+    }
+    for (SkeletonChange& c : net)
+        c.after = store.get(c.level, c.coord);
+    mLastVolumeShift = volumeKeepingShift(mSculpture, net);
+    const double shift = mLastVolumeShift.shift;
+    if (shift == 0.0) return result;
+    Aabb changed;
+    double support = 0;
+    for (const SkeletonChange& c : net) {
+        if (!c.after) continue;
+        const double delta = double(*c.after) - double(c.before.value_or(0.0f));
+        if (delta == 0.0) continue;
+        const float after = float(double(*c.after) + shift * std::abs(delta));
+        if (after == *c.after) continue;
+        store.set(c.level, c.coord, after);
+        mChanges.push_back(SkeletonChange{c.level, c.coord, c.after, after});
+        const ToolLevel& tl = mSculpture.levels().level(c.level);
+        support = std::max(support, tl.supportMm);
+        noteChanged(result, changed, vertexPos(c.coord, tl.spacingMm));
     }
     result.changedRegion = changed.padded(support);
     result.supportMm = support;

@@ -162,6 +162,31 @@ TEST(Config, AStoredConfigWithoutTheSpheresCoreKeepsTheOneSkeletonSphere) {
                  ConfigError);
 }
 
+// The smooth tool's volume correction came after projects that smoothed with the plain
+// diffusion: those replay with it, new ones and users' configs get the correction.
+TEST(Config, AStoredConfigWithoutTheSmoothVolumeKeyKeepsThePlainDiffusion) {
+    const SculptConfig def;
+    EXPECT_TRUE(def.smoothKeepsVolume);
+    const std::string old = R"({"placement": {"mode": "swept", "finer_lattice_levels": 0}})";
+    EXPECT_FALSE(parseStoredConfig(old, "p/snapshot (stored config)").smoothKeepsVolume);
+    EXPECT_FALSE(parseStoredConfig("{}", "p/snapshot (stored config)").smoothKeepsVolume);
+    EXPECT_TRUE(parseConfig(old, "user.json").smoothKeepsVolume);
+    for (bool keep : {true, false}) {
+        SculptConfig c;
+        c.smoothKeepsVolume = keep;
+        EXPECT_EQ(parseStoredConfig(configToJson(c), "stored").smoothKeepsVolume, keep);
+        EXPECT_EQ(parseConfig(configToJson(c), "user").smoothKeepsVolume, keep);
+    }
+    try {
+        parseConfig(R"({"placement": {"smooth_keeps_volume": 1}})", "user.json");
+        ADD_FAILURE() << "a number was accepted";
+    } catch (const ConfigError& e) {
+        EXPECT_NE(std::string(e.what()).find("placement.smooth_keeps_volume"), std::string::npos)
+            << e.what();
+        EXPECT_NE(std::string(e.what()).find("user.json"), std::string::npos) << e.what();
+    }
+}
+
 // JSON keeps the last of a key given twice; the first setting the user wrote would be
 // ignored without a word. Refused, naming the key's path (arrays as []); the same key in
 // different objects is fine.
@@ -607,8 +632,8 @@ TEST(Config, LookupOrder) {
             ADD_FAILURE() << "a folder was accepted";
         } catch (const ConfigError& e) {
             EXPECT_EQ(std::string(e.what()), dir.string() +
-                                                  ": cannot open config file: it is a folder "
-                                                  "(named by $VSCULPT_CONFIG)");
+                                                 ": cannot open config file: it is a folder "
+                                                 "(named by $VSCULPT_CONFIG)");
         }
         const std::filesystem::path empty = dir / "empty.json";
         std::ofstream(empty) << " \n";
@@ -617,8 +642,8 @@ TEST(Config, LookupOrder) {
             ADD_FAILURE() << "an empty file was accepted";
         } catch (const ConfigError& e) {
             EXPECT_EQ(std::string(e.what()), empty.string() +
-                                                  ": empty; a config holds at least {} (every key "
-                                                  "is optional: {} is the built-in defaults)");
+                                                 ": empty; a config holds at least {} (every key "
+                                                 "is optional: {} is the built-in defaults)");
         }
     }
     {

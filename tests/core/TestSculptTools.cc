@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
@@ -268,6 +269,98 @@ TEST(Smooth, ReducesSurfaceVariationWithoutChangingTheVolume) {
             EXPECT_LE(std::abs(v - volume0) / volume0, 0.02) << toString(mode) << " pass " << pass;
             previous = rough;
         }
+    }
+}
+
+// The clay's volume inside `box`, counted on a grid of `step` (mm^3).
+double volumeIn(const Sculpture& s, const Aabb& box, double step) {
+    std::vector<Vec3> points;
+    for (double z = box.min.z + 0.5 * step; z < box.max.z; z += step)
+        for (double y = box.min.y + 0.5 * step; y < box.max.y; y += step)
+            for (double x = box.min.x + 0.5 * step; x < box.max.x; x += step)
+                points.push_back(Vec3(x, y, z));
+    std::vector<double> values(points.size());
+    evalFieldBatch(s, points, values);
+    return double(std::count_if(values.begin(), values.end(), [](double f) { return f > 0; })) *
+           step * step * step;
+}
+
+// Found by QA (stop 39): four size-4 smooth passes along a size-3 arm took 23 % of it a pass
+// and left it in pieces (radius 3.34 -> 2.93 -> 2.43 -> 1.71 mm, then gone): diffusion keeps
+// the weights' sum, not the volume of a feature a few lattice spacings thick. The issue asks
+// for at most 2 % a pass; the arm stays whole and keeps its radius.
+TEST(Smooth, AThinArmKeepsItsVolumeAndStaysWhole) {
+    const auto arm = path({{36, 0, 0}, {50, 0, 0}, {72, 0, 0}});
+    const Aabb box{Vec3(38, -8, -8), Vec3(80, 8, 8)};
+    auto radiusAt = [](const Sculpture& s, double x) {
+        FieldProbe f(s);
+        double lo = 0, hi = 8;  // inside, outside
+        for (int i = 0; i < 40; ++i) {
+            const double m = 0.5 * (lo + hi);
+            (f.value(Vec3(x, 0, m)) > 0 ? lo : hi) = m;
+        }
+        return lo;
+    };
+    for (bool keep : {true, false}) {
+        SCOPED_TRACE(keep ? "keeps volume" : "plain diffusion");
+        SculptConfig cfg;
+        cfg.smoothKeepsVolume = keep;
+        Sculpture sphere(cfg), s(cfg);
+        applyStroke(s, ToolOp::Add, 3, arm);
+        const double sphereOnly = volumeIn(sphere, box, 0.3);
+        const double volume0 = volumeIn(s, box, 0.3) - sphereOnly;
+        const double radius0 = radiusAt(s, 60);
+        ASSERT_GT(volume0, 900);  // the arm: about pi 3.3^2 x 36 mm
+        double previous = volume0;
+        for (int pass = 1; pass <= 4; ++pass) {
+            applyStroke(s, ToolOp::Smooth, 4, arm);
+            const double v = volumeIn(s, box, 0.3) - sphereOnly;
+            if (std::getenv("VSCULPT_PRINT_SMOOTH"))
+                std::printf(
+                    "arm, %s, pass %d: volume %.1f -> %.1f mm^3 (%+.2f %%), radius at x 60 "
+                    "%.2f mm\n",
+                    keep ? "keeping" : "plain", pass, previous, v, 100 * (v / previous - 1),
+                    radiusAt(s, 60));
+            if (keep) {
+                EXPECT_LE(std::abs(v / previous - 1), 0.02) << "pass " << pass;
+            } else if (pass == 1) {
+                EXPECT_LT(v, 0.9 * previous);  // what the plain diffusion does: the check can fail
+            }
+            previous = v;
+        }
+        if (!keep) continue;
+        EXPECT_NEAR(radiusAt(s, 60), radius0, 0.1 * radius0);
+        // Whole: clay all along the arm's axis out to its tip.
+        FieldProbe f(s);
+        for (double x = 38; x <= 74; x += 0.25)
+            EXPECT_GT(f.value(Vec3(x, 0, 0)), 0) << "x = " << x;
+    }
+}
+
+// The same for a ridge on the sphere under a larger tool (QA: a size-5 ridge lost 29 % of its
+// volume in four size-7 passes, nothing of it spread to its flanks).
+TEST(Smooth, ARidgeUnderALargerToolKeepsItsVolume) {
+    std::vector<Vec3> ridge;
+    for (int i = -4; i <= 4; ++i) {
+        const double a = i * 0.12;
+        ridge.push_back(Vec3(40 * std::sin(a), -40 * std::cos(a), 0));
+    }
+    const Aabb box{Vec3(-40, -54, -18), Vec3(40, -22, 18)};
+    SculptConfig cfg;
+    Sculpture sphere(cfg), s(cfg);
+    applyStroke(s, ToolOp::Add, 5, ridge);
+    const double sphereOnly = volumeIn(sphere, box, 0.5);
+    const double volume0 = volumeIn(s, box, 0.5) - sphereOnly;
+    ASSERT_GT(volume0, 3000);
+    double previous = volume0;
+    for (int pass = 1; pass <= 4; ++pass) {
+        applyStroke(s, ToolOp::Smooth, 7, ridge);
+        const double v = volumeIn(s, box, 0.5) - sphereOnly;
+        if (std::getenv("VSCULPT_PRINT_SMOOTH"))
+            std::printf("ridge, pass %d: volume %.1f -> %.1f mm^3 (%+.2f %%)\n", pass, previous, v,
+                        100 * (v / previous - 1));
+        EXPECT_LE(std::abs(v / previous - 1), 0.02) << "pass " << pass;
+        previous = v;
     }
 }
 

@@ -232,6 +232,12 @@ struct SculptConfig {
     /// the placement time and 14x the skeletons of a stroke at 2 (docs/placement.md "Finer
     /// lattices"). Projects keep the value they were made with.
     int finerLatticeLevels = 0;
+    /// Free and swept modes: a smooth stroke ends by giving back, under the tool, the volume
+    /// its diffusion took or added (each changed weight moves by delta |its change|, one delta
+    /// for the stroke), so smoothing a thin arm or ridge relaxes it instead of dissolving it
+    /// (docs/placement.md "Smooth tool"). false: the plain diffusion, which projects and
+    /// recordings whose stored config lacks the key keep (parseStoredConfig).
+    bool smoothKeepsVolume = true;
 
     // initial shape: a sphere of point skeletons at its centre
     double sphereRadiusMm = 40.0;  ///< 0 starts from empty space
@@ -278,7 +284,8 @@ SculptConfig parseConfig(std::string_view jsonText, const std::string& sourceNam
 /// A config stored with a project or a recording: parseConfig, except that keys added since
 /// it was written take the values that replay what the version that wrote it did (a stored
 /// config lists every key of its version, so an absent key means an older version):
-/// initial_sphere.core_weight absent -> 0 (the one-skeleton sphere).
+/// initial_sphere.core_weight absent -> 0 (the one-skeleton sphere);
+/// placement.smooth_keeps_volume absent -> false (the plain diffusion).
 SculptConfig parseStoredConfig(std::string_view jsonText, const std::string& sourceName);
 
 /// Reads and parses a file; a missing or unreadable file is a ConfigError too. An empty path

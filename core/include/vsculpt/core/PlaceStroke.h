@@ -13,6 +13,7 @@
 #include "vsculpt/core/Config.h"
 #include "vsculpt/core/EvalField.h"
 #include "vsculpt/core/Geometry.h"
+#include "vsculpt/core/KeepSmoothedVolume.h"
 #include "vsculpt/core/LatticeMap.h"
 
 #include <array>
@@ -102,7 +103,9 @@ class StrokeBuilder {
     EditResult finish();
 
     /// Every vertex change so far, one per vertex (before: the state before the stroke,
-    /// after: the current one).
+    /// after: the current one); a smooth stroke's in the order made, a vertex again each time
+    /// it changed (its volume correction last), so revertChanges and reapplyChanges, which
+    /// walk them backwards and forwards, hold for both.
     const std::vector<SkeletonChange>& changes() const { return mChanges; }
     /// f - c at `objectPos` (mm) as it was before this stroke: positive inside that clay.
     /// What a pointer resting on the surface follows while the stroke goes on, so that it
@@ -111,6 +114,9 @@ class StrokeBuilder {
     /// Hands the changes over. @pre finish() was called after the last sample (a stroke that
     /// placed something is complete only then): std::logic_error otherwise.
     std::vector<SkeletonChange> takeChanges();
+    /// A smooth stroke's volume correction as finish() made it (zero before finish(), for
+    /// other tools, and with placement.smooth_keeps_volume off).
+    const VolumeKeepingShift& volumeShift() const { return mLastVolumeShift; }
 
   private:
     double preStrokeRawSum(const LatticeCoord& v, const Vec3& pos);
@@ -127,6 +133,9 @@ class StrokeBuilder {
     EditResult addSampleOnTool(const Vec3& a, const Vec3& p);
     EditResult addSampleSwept(const Vec3& a, const Vec3& p);
     EditResult addSmoothSample(const Vec3& a, const Vec3& p);
+    /// finish() of a smooth stroke: gives back the volume the diffusion took or added
+    /// (KeepSmoothedVolume.h; config placement.smooth_keeps_volume).
+    EditResult keepSmoothedVolume();
     /// Sets a vertex's weight (or empties it) and records the change, one per vertex.
     void setWeight(const LatticeCoord& v, const std::optional<float>& current,
                    const std::optional<float>& after);
@@ -189,6 +198,7 @@ class StrokeBuilder {
     uint32_t mSampleMark = 0;     // the current sample's number (Target's marks)
     bool mFinishingCap = false;   // finish(): fitting the end cap (addSampleSwept)
     bool mFinished = false;       // finish() was called after the last sample
+    VolumeKeepingShift mLastVolumeShift;
     std::shared_ptr<const SweptTransfer> mTransfer;
     LatticeMap<Target> mTargets;
     struct Tap {

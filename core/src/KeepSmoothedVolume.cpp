@@ -1,0 +1,170 @@
+// SPDX-License-Identifier: MIT
+#include "vsculpt/core/KeepSmoothedVolume.h"
+
+#include "vsculpt/core/EvalField.h"
+#include "vsculpt/core/PlaceStroke.h"
+#include "vsculpt/core/Sculpture.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace vsculpt::core {
+
+namespace {
+
+// Grid points of the estimate at most (about a million: ~1 s of field evaluations on the
+// 2-core reference machine in the worst case, a size-7 smooth over clay of every level).
+constexpr double kMaxPoints = 1 << 20;
+// The estimate's spacing / the finest changed lattice spacing.
+constexpr double kCellOverSpacing = 1.0 / 3.0;
+// Bisection steps for the shift on [-1, 1]: 2^-40, far below a weight's float resolution.
+constexpr int kBisectionSteps = 40;
+
+// The part of a cell of size h at a point with field value f and gradient length g that lies
+// inside the clay, to first order: exact for a plane at any offset.
+double insideShare(double f, double g, double h) {
+    const double t = g > 1e-12 ? 0.5 + f / (g * h) : (f > 0 ? 1.0 : 0.0);
+    return std::clamp(t, 0.0, 1.0);
+}
+
+}  // namespace
+
+VolumeKeepingShift volumeKeepingShift(const Sculpture& sculpture,
+                                      std::span<const SkeletonChange> changes) {
+    VolumeKeepingShift out;
+    const ToolLevels& levels = sculpture.levels();
+    const HermiteFalloff& falloff = levels.falloff();
+    struct Term {
+        Vec3 pos;
+        double support;
+        double delta;
+    };
+    std::vector<Term> terms;
+    double finest = std::numeric_limits<double>::infinity();
+    Aabb box;
+    for (const SkeletonChange& c : changes) {
+        if (!c.after) continue;  // an emptied vertex is not the smooth tool's
+        const double delta = double(*c.after) - double(c.before.value_or(0.0f));
+        if (delta == 0.0) continue;
+        const ToolLevel& tl = levels.level(c.level);
+        const Vec3 pos = Vec3(c.coord.x, c.coord.y, c.coord.z) * tl.spacingMm;
+        terms.push_back({pos, tl.supportMm, delta});
+        finest = std::min(finest, tl.spacingMm);
+        box.expand(Aabb{pos, pos}.padded(tl.supportMm));
+    }
+    if (terms.empty()) return out;
+
+    // Cells of one grid anchored at the origin, not at the box: strokes that differ only in
+    // where their samples fell (a few changes more or less at the edge, where they are tiny)
+    // are measured on the same points and get the same shift; and the grid is symmetric
+    // about the mirror planes.
+    double h = kCellOverSpacing * finest;
+    std::array<int64_t, 3> first{}, cells{};
+    auto layout = [&] {
+        double n = 1;
+        for (int a = 0; a < 3; ++a) {
+            first[a] = int64_t(std::floor(box.min[a] / h));
+            cells[a] = std::max<int64_t>(1, int64_t(std::ceil(box.max[a] / h)) - first[a]);
+            n *= double(cells[a]);
+        }
+        return n;
+    };
+    while (layout() > kMaxPoints)
+        h *= 1.25;
+    const int nx = int(cells[0]), ny = int(cells[1]), nz = int(cells[2]);
+    const size_t count = size_t(nx) * size_t(ny) * size_t(nz);
+    const Vec3 origin = Vec3(double(first[0]), double(first[1]), double(first[2])) * h;
+    auto centre = [&](int i, int j, int k) {
+        return Vec3((double(first[0] + i) + 0.5) * h, (double(first[1] + j) + 0.5) * h,
+                    (double(first[2] + k) + 0.5) * h);
+    };
+
+    // The changes' own field D (and its gradient) and that of their magnitudes A, scattered
+    // from each changed skeleton over the points its support reaches.
+    std::vector<double> changeField(count, 0.0), shiftField(count, 0.0);
+    std::vector<Vec3> changeGradient(count, Vec3(0.0)), shiftGradient(count, Vec3(0.0));
+    for (const Term& t : terms) {
+        // The cell centres (i + 0.5) h within [lo, hi].
+        auto range = [&](double lo, double hi, int n) {
+            return std::pair<int, int>(std::clamp(int(std::floor(lo / h - 0.5)), 0, n - 1),
+                                       std::clamp(int(std::ceil(hi / h - 0.5)), 0, n - 1));
+        };
+        const Vec3 lo = t.pos - Vec3(t.support) - origin, hi = t.pos + Vec3(t.support) - origin;
+        const auto [i0, i1] = range(lo.x, hi.x, nx);
+        const auto [j0, j1] = range(lo.y, hi.y, ny);
+        const auto [k0, k1] = range(lo.z, hi.z, nz);
+        const double magnitude = std::abs(t.delta);
+        for (int k = k0; k <= k1; ++k)
+            for (int j = j0; j <= j1; ++j)
+                for (int i = i0; i <= i1; ++i) {
+                    const Vec3 d = centre(i, j, k) - t.pos;
+                    const double r = glm::length(d);
+                    if (r >= t.support) continue;
+                    const double u = r / t.support;
+                    const double f = falloff.value(u);
+                    const Vec3 g =
+                        r > 0 ? d * (falloff.derivative(u) / (t.support * r)) : Vec3(0.0);
+                    const size_t at = (size_t(k) * ny + j) * nx + i;
+                    changeField[at] += t.delta * f;
+                    changeGradient[at] += t.delta * g;
+                    shiftField[at] += magnitude * f;
+                    shiftGradient[at] += magnitude * g;
+                }
+    }
+
+    // The field as it is now, at the points the changes reach.
+    std::vector<size_t> reached;
+    std::vector<Vec3> points;
+    for (size_t at = 0; at < count; ++at)
+        if (shiftField[at] != 0.0) {
+            reached.push_back(at);
+            const int i = int(at % nx), j = int((at / nx) % ny), k = int(at / (size_t(nx) * ny));
+            points.push_back(centre(i, j, k));
+        }
+    std::vector<double> values(points.size());
+    std::vector<Vec3> gradients(points.size());
+    evalFieldBatch(sculpture, points, values, gradients);
+
+    const double cell = h * h * h;
+    auto volumeAt = [&](double shift) {
+        double v = 0;
+        for (size_t n = 0; n < reached.size(); ++n) {
+            const size_t at = reached[n];
+            const double f = values[n] + shift * shiftField[at];
+            const Vec3 g = gradients[n] + shift * shiftGradient[at];
+            v += insideShare(f, glm::length(g), h);
+        }
+        return v * cell;
+    };
+    double before = 0;
+    for (size_t n = 0; n < reached.size(); ++n) {
+        const size_t at = reached[n];
+        before += insideShare(values[n] - changeField[at],
+                              glm::length(gradients[n] - changeGradient[at]), h);
+    }
+    out.volumeBefore = before * cell;
+    out.volumeDiffused = volumeAt(0.0);
+    out.cellMm = h;
+    out.points = int(reached.size());
+
+    // The volume grows with the shift (the shift field is never negative); bisection.
+    double lo = -1.0, hi = 1.0;
+    if (volumeAt(hi) <= out.volumeBefore)
+        lo = hi;
+    else if (volumeAt(lo) >= out.volumeBefore)
+        hi = lo;
+    else
+        for (int step = 0; step < kBisectionSteps; ++step) {
+            const double mid = 0.5 * (lo + hi);
+            (volumeAt(mid) < out.volumeBefore ? lo : hi) = mid;
+        }
+    out.shift = out.volumeDiffused == out.volumeBefore ? 0.0 : 0.5 * (lo + hi);
+    out.volumeShifted = volumeAt(out.shift);
+    return out;
+}
+
+}  // namespace vsculpt::core

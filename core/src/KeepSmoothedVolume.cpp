@@ -16,13 +16,13 @@ namespace vsculpt::core {
 
 namespace {
 
-// Grid points of the estimate at most (about a million: ~1 s of field evaluations on the
-// 2-core reference machine in the worst case, a size-7 smooth over clay of every level).
-constexpr double kMaxPoints = 1 << 20;
-// The estimate's spacing / the finest changed lattice spacing.
-constexpr double kCellOverSpacing = 1.0 / 3.0;
-// Bisection steps for the shift on [-1, 1]: 2^-40, far below a weight's float resolution.
+// Grid points of the estimate at most: past this the grid coarsens (about 0.3 s of field
+// evaluations and scattering on the 2-core reference machine; a stroke over a few tool
+// diameters of clay with size-1 detail takes about 30 000).
+constexpr double kMaxPoints = 1 << 18;
+// Bisection steps for the shift: 2^-40 of the bracket, far below a weight's float resolution.
 constexpr int kBisectionSteps = 40;
+constexpr double kMaxShift = 2.0;
 
 // The part of a cell of size h at a point with field value f and gradient length g that lies
 // inside the clay, to first order: exact for a plane at any offset.
@@ -34,7 +34,8 @@ double insideShare(double f, double g, double h) {
 }  // namespace
 
 VolumeKeepingShift volumeKeepingShift(const Sculpture& sculpture,
-                                      std::span<const SkeletonChange> changes) {
+                                      std::span<const SkeletonChange> changes,
+                                      double cellOverSpacing) {
     VolumeKeepingShift out;
     const ToolLevels& levels = sculpture.levels();
     const HermiteFalloff& falloff = levels.falloff();
@@ -42,17 +43,38 @@ VolumeKeepingShift volumeKeepingShift(const Sculpture& sculpture,
         Vec3 pos;
         double support;
         double delta;
+        double move;
     };
     std::vector<Term> terms;
     double finest = std::numeric_limits<double>::infinity();
     Aabb box;
+    out.moves.assign(changes.size(), 0.0);
+    // The correction goes onto one level: the one whose changes carry most of the change's
+    // volume (|change| x support^3, summed). Spread over every changed level by |its change|
+    // it gave the volume back where the diffusion had taken it, so size-1 bumps on a size-3
+    // arm came out of four passes bumpier (s.d. of the radius 0.42 -> 0.48 mm); on the carrying
+    // level alone the arm's body takes it and the bumps flatten (-10..-12 % a pass,
+    // docs/placement.md).
+    std::array<double, kLevelCount> carried{};
     for (const SkeletonChange& c : changes) {
+        if (!c.after) continue;
+        const double delta = double(*c.after) - double(c.before.value_or(0.0f));
+        const double support = levels.level(c.level).supportMm;
+        carried[size_t(c.level - 1)] += std::abs(delta) * support * support * support;
+    }
+    int carrier = 1;
+    for (int level = 2; level <= kLevelCount; ++level)
+        if (carried[size_t(level - 1)] > carried[size_t(carrier - 1)]) carrier = level;
+    for (size_t n = 0; n < changes.size(); ++n) {
+        const SkeletonChange& c = changes[n];
         if (!c.after) continue;  // an emptied vertex is not the smooth tool's
         const double delta = double(*c.after) - double(c.before.value_or(0.0f));
         if (delta == 0.0) continue;
+        const double move = c.level == carrier ? std::abs(delta) : 0.0;
+        out.moves[n] = move;
         const ToolLevel& tl = levels.level(c.level);
         const Vec3 pos = Vec3(c.coord.x, c.coord.y, c.coord.z) * tl.spacingMm;
-        terms.push_back({pos, tl.supportMm, delta});
+        terms.push_back({pos, tl.supportMm, delta, move});
         finest = std::min(finest, tl.spacingMm);
         box.expand(Aabb{pos, pos}.padded(tl.supportMm));
     }
@@ -62,7 +84,7 @@ VolumeKeepingShift volumeKeepingShift(const Sculpture& sculpture,
     // where their samples fell (a few changes more or less at the edge, where they are tiny)
     // are measured on the same points and get the same shift; and the grid is symmetric
     // about the mirror planes.
-    double h = kCellOverSpacing * finest;
+    double h = cellOverSpacing * finest;
     std::array<int64_t, 3> first{}, cells{};
     auto layout = [&] {
         double n = 1;
@@ -86,6 +108,7 @@ VolumeKeepingShift volumeKeepingShift(const Sculpture& sculpture,
     // The changes' own field D (and its gradient) and that of their magnitudes A, scattered
     // from each changed skeleton over the points its support reaches.
     std::vector<double> changeField(count, 0.0), shiftField(count, 0.0);
+    std::vector<char> touched(count, 0);
     std::vector<Vec3> changeGradient(count, Vec3(0.0)), shiftGradient(count, Vec3(0.0));
     for (const Term& t : terms) {
         // The cell centres (i + 0.5) h within [lo, hi].
@@ -97,7 +120,7 @@ VolumeKeepingShift volumeKeepingShift(const Sculpture& sculpture,
         const auto [i0, i1] = range(lo.x, hi.x, nx);
         const auto [j0, j1] = range(lo.y, hi.y, ny);
         const auto [k0, k1] = range(lo.z, hi.z, nz);
-        const double magnitude = std::abs(t.delta);
+        const double magnitude = t.move;
         for (int k = k0; k <= k1; ++k)
             for (int j = j0; j <= j1; ++j)
                 for (int i = i0; i <= i1; ++i) {
@@ -109,6 +132,7 @@ VolumeKeepingShift volumeKeepingShift(const Sculpture& sculpture,
                     const Vec3 g =
                         r > 0 ? d * (falloff.derivative(u) / (t.support * r)) : Vec3(0.0);
                     const size_t at = (size_t(k) * ny + j) * nx + i;
+                    touched[at] = 1;
                     changeField[at] += t.delta * f;
                     changeGradient[at] += t.delta * g;
                     shiftField[at] += magnitude * f;
@@ -120,7 +144,7 @@ VolumeKeepingShift volumeKeepingShift(const Sculpture& sculpture,
     std::vector<size_t> reached;
     std::vector<Vec3> points;
     for (size_t at = 0; at < count; ++at)
-        if (shiftField[at] != 0.0) {
+        if (touched[at]) {
             reached.push_back(at);
             const int i = int(at % nx), j = int((at / nx) % ny), k = int(at / (size_t(nx) * ny));
             points.push_back(centre(i, j, k));
@@ -153,9 +177,22 @@ VolumeKeepingShift volumeKeepingShift(const Sculpture& sculpture,
 
     // The volume grows with the shift (the shift field is never negative); bisection.
     double lo = -1.0, hi = 1.0;
-    if (volumeAt(hi) <= out.volumeBefore)
+    // Moving one level needs more than the whole of its change now and then (over the Smooth
+    // tests' 232 estimates: -1.23 ... +1.03), so the bracket grows to +-2 where [-1, 1] does
+    // not hold the target; past that (a coarse estimate whose volume hardly responds) the
+    // shift stays at the bracket's end.
+    while (hi < kMaxShift && volumeAt(hi) < out.volumeBefore) {
         lo = hi;
-    else if (volumeAt(lo) >= out.volumeBefore)
+        hi *= 2;
+    }
+    if (lo < 0)
+        while (lo > -kMaxShift && volumeAt(lo) > out.volumeBefore) {
+            hi = lo;
+            lo *= 2;
+        }
+    if (volumeAt(hi) < out.volumeBefore)
+        lo = hi;
+    else if (volumeAt(lo) > out.volumeBefore)
         hi = lo;
     else
         for (int step = 0; step < kBisectionSteps; ++step) {

@@ -908,6 +908,8 @@ EditResult StrokeBuilder::addSmoothSample(const Vec3& a, const Vec3& p) {
     EditResult result;
     Aabb changed;
     double support = 0;
+    const bool keepVolume = mSculpture.config().smoothKeepsVolume;
+    std::vector<SkeletonChange> sampleChanges;  // this sample's, for the volume's preview
     for (int level = 1; level <= mLevel; ++level) {
         const ToolLevel& tl = levels.level(level);
         support = std::max(support, tl.supportMm);
@@ -947,40 +949,85 @@ EditResult StrokeBuilder::addSmoothSample(const Vec3& a, const Vec3& p) {
             mChanges.push_back(SkeletonChange{level, sv.coord, current, after});
             const Vec3 pos = vertexPos(sv.coord, tl.spacingMm);
             noteChanged(result, changed, pos);
+            if (keepVolume && !after) mSmoothDiffused[size_t(level - 1)].erase(sv.coord);
+            if (keepVolume && after) {
+                auto& diffused = mSmoothDiffused[size_t(level - 1)];
+                if (diffused.try_emplace(sv.coord, *after).second)
+                    mSmoothOrder.emplace_back(level, sv.coord);
+                else
+                    diffused[sv.coord] = *after;
+                sampleChanges.push_back(SkeletonChange{level, sv.coord, pre.at(sv.coord), after});
+            }
         }
+    }
+    if (!sampleChanges.empty()) {
+        // A vertex decided twice in one sample (nearer the mirror image's segment) once, last.
+        std::unordered_map<LatticeCoord, size_t, LatticeCoordHash> last[kLevelCount];
+        std::vector<SkeletonChange> once;
+        for (const SkeletonChange& c : sampleChanges) {
+            const auto [it, first] = last[c.level - 1].try_emplace(c.coord, once.size());
+            if (first)
+                once.push_back(c);
+            else
+                once[it->second] = c;
+        }
+        previewSmoothedVolume(once, result, changed);
     }
     result.changedRegion = changed.padded(support);
     result.supportMm = support;
     return result;
 }
 
+void StrokeBuilder::previewSmoothedVolume(const std::vector<SkeletonChange>& sampleChanges,
+                                          EditResult& result, Aabb& changed) {
+    // The store holds the diffusion's weights for these vertices now (written just before).
+    const VolumeKeepingShift keep = volumeKeepingShift(mSculpture, sampleChanges, 1.0);
+    if (keep.shift == 0.0) return;
+    SkeletonStore& store = mSculpture.store();
+    for (size_t n = 0; n < sampleChanges.size(); ++n) {
+        const SkeletonChange& c = sampleChanges[n];
+        const float shown = float(double(*c.after) + keep.shift * keep.moves[n]);
+        if (shown == *c.after) continue;
+        store.set(c.level, c.coord, shown);
+        mChanges.push_back(SkeletonChange{c.level, c.coord, c.after, shown});
+        noteChanged(result, changed,
+                    vertexPos(c.coord, mSculpture.levels().level(c.level).spacingMm));
+    }
+}
+
 EditResult StrokeBuilder::keepSmoothedVolume() {
     EditResult result;
-    // A smooth stroke records a vertex again each time the path comes closer to it: the net
-    // change per vertex, in the order the vertices were first changed.
-    std::map<std::tuple<int, int, int, int>, size_t> index;
+    // From the diffusion's own weights, whatever the samples' previews wrote: the stroke's
+    // correction depends only on the stroke, not on how its samples fell.
     std::vector<SkeletonChange> net;
-    SkeletonStore& store = mSculpture.store();
-    for (const SkeletonChange& c : mChanges) {
-        const auto [it, first] =
-            index.try_emplace({c.level, c.coord.x, c.coord.y, c.coord.z}, net.size());
-        if (first) net.push_back(SkeletonChange{c.level, c.coord, c.before, std::nullopt});
+    net.reserve(mSmoothOrder.size());
+    for (const auto& [level, coord] : mSmoothOrder) {
+        // A vertex the diffusion emptied again later in the stroke stays empty.
+        const auto& diffused = mSmoothDiffused[size_t(level - 1)];
+        const auto it = diffused.find(coord);
+        if (it == diffused.end()) continue;
+        net.push_back(
+            SkeletonChange{level, coord, mSmoothPre[size_t(level - 1)].at(coord), it->second});
     }
-    for (SkeletonChange& c : net)
-        c.after = store.get(c.level, c.coord);
+    SkeletonStore& store = mSculpture.store();
+    // The estimate reads the store: the diffusion's weights go back first (what the last
+    // previews showed is kept to record each vertex's change once).
+    std::vector<std::optional<float>> shown;
+    shown.reserve(net.size());
+    for (const SkeletonChange& c : net) {
+        shown.push_back(store.get(c.level, c.coord));
+        store.set(c.level, c.coord, *c.after);
+    }
     mLastVolumeShift = volumeKeepingShift(mSculpture, net);
     const double shift = mLastVolumeShift.shift;
-    if (shift == 0.0) return result;
     Aabb changed;
     double support = 0;
-    for (const SkeletonChange& c : net) {
-        if (!c.after) continue;
-        const double delta = double(*c.after) - double(c.before.value_or(0.0f));
-        if (delta == 0.0) continue;
-        const float after = float(double(*c.after) + shift * std::abs(delta));
-        if (after == *c.after) continue;
-        store.set(c.level, c.coord, after);
-        mChanges.push_back(SkeletonChange{c.level, c.coord, c.after, after});
+    for (size_t n = 0; n < net.size(); ++n) {
+        const SkeletonChange& c = net[n];
+        const float w = float(double(*c.after) + shift * mLastVolumeShift.moves[n]);
+        store.set(c.level, c.coord, w);
+        if (shown[n] == w) continue;
+        mChanges.push_back(SkeletonChange{c.level, c.coord, shown[n], w});
         const ToolLevel& tl = mSculpture.levels().level(c.level);
         support = std::max(support, tl.supportMm);
         noteChanged(result, changed, vertexPos(c.coord, tl.spacingMm));

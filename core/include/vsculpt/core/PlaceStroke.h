@@ -134,8 +134,12 @@ class StrokeBuilder {
     EditResult addSampleSwept(const Vec3& a, const Vec3& p);
     EditResult addSmoothSample(const Vec3& a, const Vec3& p);
     /// finish() of a smooth stroke: gives back the volume the diffusion took or added
-    /// (KeepSmoothedVolume.h; config placement.smooth_keeps_volume).
+    /// (KeepSmoothedVolume.h; config placement.smooth_keeps_volume), over the whole stroke.
     EditResult keepSmoothedVolume();
+    /// The same during the stroke, for the vertices one sample changed, on a coarser grid:
+    /// what the sculptor sees under the brush until finish() makes the stroke's own.
+    void previewSmoothedVolume(const std::vector<SkeletonChange>& sampleChanges, EditResult& result,
+                               Aabb& changed);
     /// Sets a vertex's weight (or empties it) and records the change, one per vertex.
     void setWeight(const LatticeCoord& v, const std::optional<float>& current,
                    const std::optional<float>& after);
@@ -216,6 +220,13 @@ class StrokeBuilder {
     std::array<std::unordered_map<LatticeCoord, std::optional<float>, LatticeCoordHash>,
                kLevelCount>
         mSmoothPre;
+    // Smooth with the volume kept: each changed vertex's weight from the diffusion alone
+    // (what the store holds less the volume correction) and the order vertices were first
+    // changed, so finish() computes the stroke's correction from these, whatever each
+    // sample's preview of it wrote.
+    std::array<std::unordered_map<LatticeCoord, float, LatticeCoordHash>, kLevelCount>
+        mSmoothDiffused;
+    std::vector<std::pair<int, LatticeCoord>> mSmoothOrder;
 };
 
 /// Applies a whole stroke (object-space path). Returns the union of the changed regions and

@@ -5,6 +5,9 @@
 #include "vsculpt/core/PlaceStroke.h"
 #include "vsculpt/core/Sculpture.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -110,35 +113,41 @@ VolumeKeepingShift volumeKeepingShift(const Sculpture& sculpture,
     std::vector<double> changeField(count, 0.0), shiftField(count, 0.0);
     std::vector<char> touched(count, 0);
     std::vector<Vec3> changeGradient(count, Vec3(0.0)), shiftGradient(count, Vec3(0.0));
-    for (const Term& t : terms) {
-        // The cell centres (i + 0.5) h within [lo, hi].
-        auto range = [&](double lo, double hi, int n) {
-            return std::pair<int, int>(std::clamp(int(std::floor(lo / h - 0.5)), 0, n - 1),
-                                       std::clamp(int(std::ceil(hi / h - 0.5)), 0, n - 1));
-        };
-        const Vec3 lo = t.pos - Vec3(t.support) - origin, hi = t.pos + Vec3(t.support) - origin;
-        const auto [i0, i1] = range(lo.x, hi.x, nx);
-        const auto [j0, j1] = range(lo.y, hi.y, ny);
-        const auto [k0, k1] = range(lo.z, hi.z, nz);
-        const double magnitude = t.move;
-        for (int k = k0; k <= k1; ++k)
-            for (int j = j0; j <= j1; ++j)
-                for (int i = i0; i <= i1; ++i) {
-                    const Vec3 d = centre(i, j, k) - t.pos;
-                    const double r = glm::length(d);
-                    if (r >= t.support) continue;
-                    const double u = r / t.support;
-                    const double f = falloff.value(u);
-                    const Vec3 g =
-                        r > 0 ? d * (falloff.derivative(u) / (t.support * r)) : Vec3(0.0);
-                    const size_t at = (size_t(k) * ny + j) * nx + i;
-                    touched[at] = 1;
-                    changeField[at] += t.delta * f;
-                    changeGradient[at] += t.delta * g;
-                    shiftField[at] += magnitude * f;
-                    shiftGradient[at] += magnitude * g;
-                }
-    }
+    // Scattered in slabs of z over the cores: each slab adds the terms in their order, so every
+    // point's sums are the same however the slabs are shared out.
+    auto range = [&](double lo, double hi, int n) {  // the cell centres (i + 0.5) h in [lo, hi]
+        return std::pair<int, int>(std::clamp(int(std::floor(lo / h - 0.5)), 0, n - 1),
+                                   std::clamp(int(std::ceil(hi / h - 0.5)), 0, n - 1));
+    };
+    tbb::parallel_for(tbb::blocked_range<int>(0, nz, 4), [&](const tbb::blocked_range<int>& slab) {
+        for (const Term& t : terms) {
+            const Vec3 lo = t.pos - Vec3(t.support) - origin, hi = t.pos + Vec3(t.support) - origin;
+            auto [k0, k1] = range(lo.z, hi.z, nz);
+            k0 = std::max(k0, slab.begin());
+            k1 = std::min(k1, slab.end() - 1);
+            if (k0 > k1) continue;
+            const auto [i0, i1] = range(lo.x, hi.x, nx);
+            const auto [j0, j1] = range(lo.y, hi.y, ny);
+            const double magnitude = t.move;
+            for (int k = k0; k <= k1; ++k)
+                for (int j = j0; j <= j1; ++j)
+                    for (int i = i0; i <= i1; ++i) {
+                        const Vec3 d = centre(i, j, k) - t.pos;
+                        const double r = glm::length(d);
+                        if (r >= t.support) continue;
+                        const double u = r / t.support;
+                        const double f = falloff.value(u);
+                        const Vec3 g =
+                            r > 0 ? d * (falloff.derivative(u) / (t.support * r)) : Vec3(0.0);
+                        const size_t at = (size_t(k) * ny + j) * nx + i;
+                        touched[at] = 1;
+                        changeField[at] += t.delta * f;
+                        changeGradient[at] += t.delta * g;
+                        shiftField[at] += magnitude * f;
+                        shiftGradient[at] += magnitude * g;
+                    }
+        }
+    });
 
     // The field as it is now, at the points the changes reach.
     std::vector<size_t> reached;
@@ -151,25 +160,48 @@ VolumeKeepingShift volumeKeepingShift(const Sculpture& sculpture,
         }
     std::vector<double> values(points.size());
     std::vector<Vec3> gradients(points.size());
-    evalFieldBatch(sculpture, points, values, gradients);
+    // The one part that grows with the points and reads nothing shared but the sculpture, in
+    // chunks over the cores (the pen-lift estimate runs on the frame thread); each point's
+    // value is the same whichever chunk takes it, so the shift is too.
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 1024),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                          const size_t n = r.end() - r.begin();
+                          evalFieldBatch(sculpture,
+                                         std::span<const Vec3>(points).subspan(r.begin(), n),
+                                         std::span<double>(values).subspan(r.begin(), n),
+                                         std::span<Vec3>(gradients).subspan(r.begin(), n));
+                      });
 
+    // The volume is summed in fixed chunks, added in their order: the same bits on any number
+    // of cores, so a journal replays to the same weights.
+    constexpr size_t kChunk = 4096;
+    const size_t chunks = (reached.size() + kChunk - 1) / kChunk;
+    std::vector<double> partial(chunks);
+    auto sumInside = [&](auto&& share) {
+        tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+            double v = 0;
+            const size_t end = std::min(reached.size(), (c + 1) * kChunk);
+            for (size_t n = c * kChunk; n < end; ++n)
+                v += share(n, reached[n]);
+            partial[c] = v;
+        });
+        double v = 0;
+        for (double p : partial)
+            v += p;
+        return v;
+    };
     const double cell = h * h * h;
     auto volumeAt = [&](double shift) {
-        double v = 0;
-        for (size_t n = 0; n < reached.size(); ++n) {
-            const size_t at = reached[n];
-            const double f = values[n] + shift * shiftField[at];
-            const Vec3 g = gradients[n] + shift * shiftGradient[at];
-            v += insideShare(f, glm::length(g), h);
-        }
-        return v * cell;
+        return cell * sumInside([&](size_t n, size_t at) {
+                   const double f = values[n] + shift * shiftField[at];
+                   const Vec3 g = gradients[n] + shift * shiftGradient[at];
+                   return insideShare(f, glm::length(g), h);
+               });
     };
-    double before = 0;
-    for (size_t n = 0; n < reached.size(); ++n) {
-        const size_t at = reached[n];
-        before += insideShare(values[n] - changeField[at],
-                              glm::length(gradients[n] - changeGradient[at]), h);
-    }
+    const double before = sumInside([&](size_t n, size_t at) {
+        return insideShare(values[n] - changeField[at],
+                           glm::length(gradients[n] - changeGradient[at]), h);
+    });
     out.volumeBefore = before * cell;
     out.volumeDiffused = volumeAt(0.0);
     out.cellMm = h;

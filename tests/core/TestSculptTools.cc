@@ -2,14 +2,18 @@
 // The smooth tool and mirror symmetry (issue #13): exact symmetry, undo, sample-spacing
 // independence, smoothing that reduces surface variation without changing the volume.
 #include "vsculpt/core/EvalField.h"
+#include "vsculpt/core/KeepSmoothedVolume.h"
 #include "vsculpt/core/PlaceStroke.h"
 #include "vsculpt/core/Polygonizer.h"
 #include "vsculpt/core/Sculpture.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 
 #include <algorithm>
 #include <chrono>
@@ -443,6 +447,35 @@ TEST(Smooth, ABumpyArmComesOutSmootherAndKeepsItsVolume) {
         previous = v;
         last = now;
     }
+}
+
+// The volume estimate runs over the cores (KeepSmoothedVolume.cpp); a journal must replay to
+// the same weights on a machine with any number of them, so the estimate must come out bit for
+// bit the same on one thread as on all (its sums added in a fixed order).
+TEST(Smooth, ItsVolumeEstimateIsTheSameOnOneCoreAsOnAll) {
+    SculptConfig cfg;
+    Sculpture s(cfg);
+    applyStroke(s, ToolOp::Add, 3, path({{36, 0, 0}, {50, 0, 0}, {72, 0, 0}}));
+    addBumpsToArm(s);
+    std::vector<SkeletonChange> changes;
+    applyStroke(s, ToolOp::Smooth, 4, path({{36, 3.4, 0}, {72, 3.4, 0}}), &changes);
+    ASSERT_FALSE(changes.empty());
+    const VolumeKeepingShift onAll = volumeKeepingShift(s, changes);
+    VolumeKeepingShift onOne;
+    {
+        tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+        onOne = volumeKeepingShift(s, changes);
+    }
+    ASSERT_GT(onAll.points, 10000);  // enough points to be shared out
+    auto bits = [](double v) {
+        std::uint64_t b;
+        std::memcpy(&b, &v, sizeof b);
+        return b;
+    };
+    EXPECT_EQ(bits(onAll.volumeBefore), bits(onOne.volumeBefore));
+    EXPECT_EQ(bits(onAll.volumeDiffused), bits(onOne.volumeDiffused));
+    EXPECT_EQ(bits(onAll.shift), bits(onOne.shift));
+    EXPECT_EQ(onAll.moves, onOne.moves);
 }
 
 // The same for a ridge on the sphere under a larger tool (QA: a size-5 ridge lost 29 % of its

@@ -25,8 +25,9 @@ class Sculpture;
 struct SkeletonChange;  // PlaceStroke.h
 
 struct VolumeKeepingShift {
-    /// Each changed weight w_after becomes w_after + shift * |w_after - w_before|; in
-    /// [-1, 1] (1 at most doubles a change outward, -1 inward).
+    /// Each changed weight on the carrying level w_after becomes
+    /// w_after + shift * |w_after - w_before| (see `moves`); in [-2, 2] (the bracket's ends
+    /// where the target lies beyond them).
     double shift = 0;
     /// The volume under the stroke before it, after the diffusion and after the shift, mm^3,
     /// as the estimate below measures it (the region where the changes reach: the union of
@@ -54,7 +55,8 @@ inline constexpr double kStrokeCellOverSpacing = 0.5;
 /// point counting the part of its cell inside the clay as clamp(0.5 + f / (|grad f| h), 0, 1),
 /// exact for a plane at any offset; the field after a shift is the field now plus the shift
 /// times the changes' own field, so the search for it needs one field evaluation per point.
-/// Deterministic (the journal replays to the same bits). No changes: shift 0.
+/// Runs over the cores (oneTBB) on the caller's thread; deterministic, the same bits on any
+/// number of cores (the journal replays to the same weights). No changes: shift 0.
 /// `cellOverSpacing`: the grid's spacing over the finest changed lattice spacing (a sample's
 /// preview takes 1, 8 times fewer points than a stroke's correction).
 VolumeKeepingShift volumeKeepingShift(const Sculpture& sculpture,

@@ -2,6 +2,7 @@
 #include "vsculpt/core/KeepSmoothedVolume.h"
 
 #include "vsculpt/core/EvalField.h"
+#include "vsculpt/core/Geometry.h"
 #include "vsculpt/core/PlaceStroke.h"
 #include "vsculpt/core/Sculpture.h"
 
@@ -13,6 +14,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <unordered_map>
 #include <vector>
 
 namespace vsculpt::core {
@@ -56,7 +58,7 @@ VolumeKeepingShift volumeKeepingShift(const Sculpture& sculpture,
     // volume (|change| x support^3, summed). Spread over every changed level by |its change|
     // it gave the volume back where the diffusion had taken it, so size-1 bumps on a size-3
     // arm came out of four passes bumpier (s.d. of the radius 0.42 -> 0.48 mm); on the carrying
-    // level alone the arm's body takes it and the bumps flatten (-10..-12 % a pass,
+    // level alone the arm's body takes it and the bumps flatten (-7..-11 % a pass,
     // docs/placement.md).
     std::array<double, kLevelCount> carried{};
     for (const SkeletonChange& c : changes) {
@@ -68,12 +70,50 @@ VolumeKeepingShift volumeKeepingShift(const Sculpture& sculpture,
     int carrier = 1;
     for (int level = 2; level <= kLevelCount; ++level)
         if (carried[size_t(level - 1)] > carried[size_t(carrier - 1)]) carrier = level;
+    // On the carrying level each weight moves by how much the diffusion changed the field at
+    // its vertex (that level's changes blurred by its kernel, over the kernel's lattice sum, so
+    // a uniform change moves by itself), not by its own change: inside clay built of adds and
+    // carves, neighbouring weights of opposite sign that the diffusion drew together change a
+    // lot while the field hardly moves, and moving them by |their change| lowered the field
+    // there unseen by the volume (repeated passes over the worked detail's nose opened a
+    // 434 mm^3 void 4-9 mm inside the sphere).
+    const ToolLevel& carrierLevel = levels.level(carrier);
+    std::unordered_map<LatticeCoord, double, LatticeCoordHash> carrierDelta;
+    for (const SkeletonChange& c : changes)
+        if (c.after && c.level == carrier)
+            carrierDelta[c.coord] = double(*c.after) - double(c.before.value_or(0.0f));
+    struct Offset {
+        LatticeCoord o;
+        double f;
+    };
+    std::vector<Offset> kernel;
+    double kernelSum = 0;
+    {
+        const int reach = int(std::ceil(carrierLevel.supportMm / carrierLevel.spacingMm));
+        for (int z = -reach; z <= reach; ++z)
+            for (int y = -reach; y <= reach; ++y)
+                for (int x = -reach; x <= reach; ++x) {
+                    const double u = std::sqrt(double(x * x + y * y + z * z)) *
+                                     carrierLevel.spacingMm / carrierLevel.supportMm;
+                    if (u >= 1) continue;
+                    kernel.push_back({LatticeCoord{x, y, z}, falloff.value(u)});
+                    kernelSum += falloff.value(u);
+                }
+    }
+    auto fieldChangeAt = [&](const LatticeCoord& c) {
+        double sum = 0;
+        for (const Offset& k : kernel) {
+            const auto it = carrierDelta.find(LatticeCoord{c.x + k.o.x, c.y + k.o.y, c.z + k.o.z});
+            if (it != carrierDelta.end()) sum += it->second * k.f;
+        }
+        return sum;
+    };
     for (size_t n = 0; n < changes.size(); ++n) {
         const SkeletonChange& c = changes[n];
         if (!c.after) continue;  // an emptied vertex is not the smooth tool's
         const double delta = double(*c.after) - double(c.before.value_or(0.0f));
         if (delta == 0.0) continue;
-        const double move = c.level == carrier ? std::abs(delta) : 0.0;
+        const double move = c.level == carrier ? std::abs(fieldChangeAt(c.coord)) / kernelSum : 0.0;
         out.moves[n] = move;
         const ToolLevel& tl = levels.level(c.level);
         const Vec3 pos = Vec3(c.coord.x, c.coord.y, c.coord.z) * tl.spacingMm;

@@ -8,12 +8,15 @@
 /// arm, a ridge) has its peak lowered below it (measured: 23 % of an arm a pass, gone after
 /// four). So a smooth stroke ends by moving the weights it changed on one level, the level
 /// whose changes carry most of the change's volume (|change| x support^3), each by
-/// shift * |its change|, one shift for the whole stroke, chosen so that the volume under the
-/// stroke is what it was. Where the diffusion changed nothing, nothing moves; on the carrying
-/// level (an arm's body) what was dissolved most is given back most, while finer levels (bumps
-/// on the arm) keep their diffusion and flatten. One scalar for the stroke keeps mirror
-/// symmetry exact. During the stroke each sample previews the same correction over its own
-/// changes (PlaceStroke.h), so a thin feature does not visibly shrink under the brush.
+/// shift * |the change of that level's field at its vertex| (the level's changes blurred by
+/// its kernel, over the kernel's lattice sum), one shift for the whole stroke, chosen so that
+/// the volume under the stroke is what it was. Where the diffusion changed nothing, nothing
+/// moves; on the carrying level (an arm's body) the field that was dissolved most is given
+/// back most, while finer levels (bumps on the arm) keep their diffusion and flatten; weights
+/// of opposite sign drawn together inside the clay, whose field hardly changed, hardly move. One
+/// scalar for the stroke keeps mirror symmetry exact. During the stroke each sample previews the
+/// same correction over its own changes (PlaceStroke.h), so a thin feature does not visibly shrink
+/// under the brush.
 #pragma once
 
 #include <span>
@@ -25,17 +28,17 @@ class Sculpture;
 struct SkeletonChange;  // PlaceStroke.h
 
 struct VolumeKeepingShift {
-    /// Each changed weight on the carrying level w_after becomes
-    /// w_after + shift * |w_after - w_before| (see `moves`); in [-2, 2] (the bracket's ends
-    /// where the target lies beyond them).
+    /// Each changed weight on the carrying level moves by shift * moves[i]; in [-2, 2] (the
+    /// bracket's ends where the target lies beyond them).
     double shift = 0;
     /// The volume under the stroke before it, after the diffusion and after the shift, mm^3,
     /// as the estimate below measures it (the region where the changes reach: the union of
     /// the changed skeletons' supports).
     double volumeBefore = 0, volumeDiffused = 0, volumeShifted = 0;
     /// Per change (in the order given): how far its weight moves per unit of shift, so the
-    /// weight after the correction is after + shift * moves[i] (|its change| on the carrying
-    /// level, 0 elsewhere and for a change left alone).
+    /// weight after the correction is after + shift * moves[i] (on the carrying level the
+    /// field's change at its vertex over the kernel's lattice sum, so a uniform change moves by
+    /// itself; 0 elsewhere and for a change left alone).
     std::vector<double> moves;
     double cellMm = 0;  ///< spacing of the estimate's grid
     int points = 0;     ///< grid points that the changes reach

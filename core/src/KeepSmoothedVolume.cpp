@@ -40,7 +40,7 @@ double insideShare(double f, double g, double h) {
 
 VolumeKeepingShift volumeKeepingShift(const Sculpture& sculpture,
                                       std::span<const SkeletonChange> changes,
-                                      double cellOverSpacing) {
+                                      double cellOverSpacing, double finerWithinPoints) {
     VolumeKeepingShift out;
     const ToolLevels& levels = sculpture.levels();
     const HermiteFalloff& falloff = levels.falloff();
@@ -140,6 +140,14 @@ VolumeKeepingShift volumeKeepingShift(const Sculpture& sculpture,
     };
     while (layout() > kMaxPoints)
         h *= 1.25;
+    for (const double asked = h; h / 1.25 >= 0.5 * asked - 1e-12;) {
+        h /= 1.25;
+        if (layout() > std::min(finerWithinPoints, kMaxPoints)) {
+            h *= 1.25;
+            layout();
+            break;
+        }
+    }
     const int nx = int(cells[0]), ny = int(cells[1]), nz = int(cells[2]);
     const size_t count = size_t(nx) * size_t(ny) * size_t(nz);
     const Vec3 origin = Vec3(double(first[0]), double(first[1]), double(first[2])) * h;

@@ -981,7 +981,7 @@ EditResult StrokeBuilder::addSmoothSample(const Vec3& a, const Vec3& p) {
 void StrokeBuilder::previewSmoothedVolume(const std::vector<SkeletonChange>& sampleChanges,
                                           EditResult& result, Aabb& changed) {
     // The store holds the diffusion's weights for these vertices now (written just before).
-    const VolumeKeepingShift keep = volumeKeepingShift(mSculpture, sampleChanges, 1.0);
+    const VolumeKeepingShift keep = volumeKeepingShift(mSculpture, sampleChanges, 1.0, 0);
     if (keep.shift == 0.0) return;
     SkeletonStore& store = mSculpture.store();
     for (size_t n = 0; n < sampleChanges.size(); ++n) {

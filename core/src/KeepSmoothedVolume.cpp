@@ -96,8 +96,9 @@ VolumeKeepingShift volumeKeepingShift(const Sculpture& sculpture,
                     const double u = std::sqrt(double(x * x + y * y + z * z)) *
                                      carrierLevel.spacingMm / carrierLevel.supportMm;
                     if (u >= 1) continue;
-                    kernel.push_back({LatticeCoord{x, y, z}, falloff.value(u)});
-                    kernelSum += falloff.value(u);
+                    const double f = falloff.value(u);
+                    kernel.push_back({LatticeCoord{x, y, z}, f});
+                    kernelSum += f;
                 }
     }
     auto fieldChangeAt = [&](const LatticeCoord& c) {

@@ -951,11 +951,12 @@ EditResult StrokeBuilder::addSmoothSample(const Vec3& a, const Vec3& p) {
             noteChanged(result, changed, pos);
             if (keepVolume && !after) mSmoothDiffused[size_t(level - 1)].erase(sv.coord);
             if (keepVolume && after) {
-                auto& diffused = mSmoothDiffused[size_t(level - 1)];
-                if (diffused.try_emplace(sv.coord, *after).second)
+                const auto [at, fresh] =
+                    mSmoothDiffused[size_t(level - 1)].try_emplace(sv.coord, *after);
+                if (fresh)
                     mSmoothOrder.emplace_back(level, sv.coord);
                 else
-                    diffused[sv.coord] = *after;
+                    at->second = *after;
                 sampleChanges.push_back(SkeletonChange{level, sv.coord, pre.at(sv.coord), after});
             }
         }

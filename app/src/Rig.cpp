@@ -221,7 +221,11 @@ namespace {
 // What every studio a rig opens gets: the model-line projector and, for the windows, meshing
 // on the mesher thread.
 void setUpStudio(Studio& studio, const RigOptions& options) {
-    if (options.asyncMeshing) studio.setAsyncMeshing(true);
+    if (options.asyncMeshing) {
+        studio.setAsyncMeshing(true);
+        // A smooth stroke's pen-lift estimate too: the frame never waits for it.
+        studio.setAsyncStrokeFinish(true);
+    }
     installProjector(studio);
 }
 
@@ -401,9 +405,18 @@ std::optional<std::string> Rig::pollImport(bool wait) {
 }
 
 std::optional<std::string> Rig::pollBackgroundWork(bool wait) {
-    // The import first: once in, the save and export that follow hold it. (The save and the
-    // export log their own outcomes.)
-    std::optional<std::string> said = pollImport(wait);
+    // A stroke whose pen-lift estimate is done becomes a step first
+    // (Session::setAsyncStrokeFinish), then the import: once in, the save and export that
+    // follow hold them. (The save and the export log their own outcomes.)
+    std::optional<std::string> said;
+    try {
+        mStudio->pollStrokeFinish(wait);
+    } catch (const std::exception& e) {
+        said = std::string("the stroke was not kept: ") + e.what();
+        spdlog::warn("{}", *said);
+    }
+    if (std::optional<std::string> imported = pollImport(wait))
+        said = said ? *said + "; " + *imported : *imported;
     for (std::optional<std::string> done : {pollSave(wait), pollExport(wait)})
         if (done) said = said ? *said + "; " + *done : *done;
     return said;
@@ -518,6 +531,8 @@ std::string Rig::exportTo(const std::filesystem::path& path, const core::ExportO
     (void)core::exportFrame(path, options);
     if (!path.parent_path().empty()) std::filesystem::create_directories(path.parent_path());
     core::ensureWritable(path);
+    // A stroke ended but not yet completed is in the file (Session::setAsyncStrokeFinish).
+    mStudio->pollStrokeFinish(true);
     const Session& s = mStudio->session();
     // The spacing that keeps the finest detail sculpted (the export runs beside the frame,
     // so a finer grid costs the sculptor nothing but the wait for the file).

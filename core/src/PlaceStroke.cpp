@@ -816,8 +816,11 @@ EditResult StrokeBuilder::finish() {
         }
         mFinishingCap = false;
     }
-    if (mOp == ToolOp::Smooth && !mFinished && mSculpture.config().smoothKeepsVolume)
-        result = keepSmoothedVolume();
+    if (mOp == ToolOp::Smooth && !mFinished && mSculpture.config().smoothKeepsVolume) {
+        if (mSmoothFinish == SmoothFinish::NotStarted) prepareSmoothedVolume();
+        if (mSmoothFinish == SmoothFinish::Prepared) estimateSmoothedVolume();
+        result = applySmoothedVolume();
+    }
     mFinished = true;
     if (mHeld.empty()) return result;
     std::vector<std::pair<LatticeCoord, std::optional<float>>> held(mHeld.begin(), mHeld.end());
@@ -996,43 +999,68 @@ void StrokeBuilder::previewSmoothedVolume(const std::vector<SkeletonChange>& sam
     }
 }
 
-EditResult StrokeBuilder::keepSmoothedVolume() {
-    EditResult result;
+std::function<void()> StrokeBuilder::beginFinish() {
+    if (mOp != ToolOp::Smooth || mFinished || !mSculpture.config().smoothKeepsVolume ||
+        mSmoothFinish != SmoothFinish::NotStarted)
+        return {};
+    prepareSmoothedVolume();
+    if (mSmoothNet.empty()) {
+        mSmoothFinish = SmoothFinish::Estimated;  // shift 0: nothing to estimate
+        return {};
+    }
+    return [this] { estimateSmoothedVolume(); };
+}
+
+void StrokeBuilder::prepareSmoothedVolume() {
     // From the diffusion's own weights, whatever the samples' previews wrote: the stroke's
     // correction depends only on the stroke, not on how its samples fell.
-    std::vector<SkeletonChange> net;
-    net.reserve(mSmoothOrder.size());
+    mSmoothNet.clear();
+    mSmoothNet.reserve(mSmoothOrder.size());
     for (const auto& [level, coord] : mSmoothOrder) {
         // A vertex the diffusion emptied again later in the stroke stays empty.
         const auto& diffused = mSmoothDiffused[size_t(level - 1)];
         const auto it = diffused.find(coord);
         if (it == diffused.end()) continue;
-        net.push_back(
+        mSmoothNet.push_back(
             SkeletonChange{level, coord, mSmoothPre[size_t(level - 1)].at(coord), it->second});
     }
     SkeletonStore& store = mSculpture.store();
     // The estimate reads the store: the diffusion's weights go back first (what the last
     // previews showed is kept to record each vertex's change once).
-    std::vector<std::optional<float>> shown;
-    shown.reserve(net.size());
-    for (const SkeletonChange& c : net) {
-        shown.push_back(store.get(c.level, c.coord));
+    mSmoothShown.clear();
+    mSmoothShown.reserve(mSmoothNet.size());
+    for (const SkeletonChange& c : mSmoothNet) {
+        mSmoothShown.push_back(store.get(c.level, c.coord));
         store.set(c.level, c.coord, *c.after);
     }
-    mLastVolumeShift = volumeKeepingShift(mSculpture, net);
+    mLastVolumeShift = VolumeKeepingShift{};
+    mSmoothFinish = SmoothFinish::Prepared;
+}
+
+void StrokeBuilder::estimateSmoothedVolume() {
+    // Reads the sculpture and mSmoothNet only (beginFinish() may hand this to another thread).
+    mLastVolumeShift = volumeKeepingShift(mSculpture, mSmoothNet);
+    mSmoothFinish = SmoothFinish::Estimated;
+}
+
+EditResult StrokeBuilder::applySmoothedVolume() {
+    EditResult result;
+    SkeletonStore& store = mSculpture.store();
     const double shift = mLastVolumeShift.shift;
     Aabb changed;
     double support = 0;
-    for (size_t n = 0; n < net.size(); ++n) {
-        const SkeletonChange& c = net[n];
+    for (size_t n = 0; n < mSmoothNet.size(); ++n) {
+        const SkeletonChange& c = mSmoothNet[n];
         const float w = float(double(*c.after) + shift * mLastVolumeShift.moves[n]);
         store.set(c.level, c.coord, w);
-        if (shown[n] == w) continue;
-        mChanges.push_back(SkeletonChange{c.level, c.coord, shown[n], w});
+        if (mSmoothShown[n] == w) continue;
+        mChanges.push_back(SkeletonChange{c.level, c.coord, mSmoothShown[n], w});
         const ToolLevel& tl = mSculpture.levels().level(c.level);
         support = std::max(support, tl.supportMm);
         noteChanged(result, changed, vertexPos(c.coord, tl.spacingMm));
     }
+    mSmoothNet.clear();
+    mSmoothShown.clear();
     result.changedRegion = changed.padded(support);
     result.supportMm = support;
     return result;

@@ -12,6 +12,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
+#include <functional>
 #include <thread>
 
 namespace vsculpt::studio {
@@ -40,7 +42,22 @@ struct Session::BackgroundSave {
     std::thread thread;
 };
 
+/// An ended stroke whose volume estimate runs on a thread of its own (setAsyncStrokeFinish):
+/// the builder waits here, untouched by the session, until the thread is done.
+struct Session::PendingFinish {
+    std::unique_ptr<StrokeBuilder> stroke;
+    std::exception_ptr error;  // what the estimate threw
+    std::atomic<bool> done{false};
+    std::thread thread;
+};
+
 Session::~Session() {
+    // A stroke ended but not yet completed is work: it is journaled before the session goes.
+    try {
+        pollStrokeFinish(true);
+    } catch (const std::exception& e) {
+        spdlog::warn("{}", e.what());
+    }
     // A snapshot being written is finished, so the journal does not keep what it holds.
     try {
         pollSave(true);
@@ -370,6 +387,7 @@ void Session::journal(const JournalRecord& r) {
 
 void Session::beginStroke() {
     if (mStroke) throw SessionError("a stroke is already in progress");
+    pollStrokeFinish(true);  // the stroke before this one is complete first
     if (mTool == ToolKind::Select)
         throw SessionError(
             "stroke needs the add, carve or smooth tool (the select tool is active)");
@@ -428,8 +446,60 @@ void Session::cancelStroke() {
     mStrokeRecord = StrokeRecord{};
 }
 
+void Session::setAsyncStrokeFinish(bool on) {
+    if (!on) pollStrokeFinish(true);
+    mAsyncFinish = on;
+}
+
+bool Session::pollStrokeFinish(bool wait) {
+    if (!mFinishing) return false;
+    if (!wait && !mFinishing->done.load(std::memory_order_acquire)) return false;
+    mFinishing->thread.join();
+    const std::unique_ptr<PendingFinish> pending = std::move(mFinishing);
+    mStroke = std::move(pending->stroke);
+    if (pending->error) {
+        cancelStroke();
+        std::rethrow_exception(pending->error);
+    }
+    completeStroke();
+    return true;
+}
+
 void Session::endStroke() {
+    pollStrokeFinish(true);
     if (!mStroke) return;
+    if (mAsyncFinish) {
+        std::function<void()> estimate;
+        try {
+            estimate = mStroke->beginFinish();
+        } catch (...) {
+            cancelStroke();
+            throw;
+        }
+        if (estimate) {
+            // Nothing writes the sculpture until the stroke is completed: every call that
+            // would waits for it first (pollStrokeFinish(true)).
+            auto pending = std::make_unique<PendingFinish>();
+            pending->stroke = std::move(mStroke);
+            PendingFinish* p = pending.get();
+            pending->thread = std::thread([p, estimate = std::move(estimate)] {
+                // Background work, as the mesher's helpers: a waking frame thread comes first.
+                lowerThisThreadsPriority(AsyncMesher::kHelperNice);
+                try {
+                    estimate();
+                } catch (...) {
+                    p->error = std::current_exception();
+                }
+                p->done.store(true, std::memory_order_release);
+            });
+            mFinishing = std::move(pending);
+            return;
+        }
+    }
+    completeStroke();
+}
+
+void Session::completeStroke() {
     try {
         // The small adjustments the samples held back: the stroke is complete only now.
         const auto t0 = std::chrono::steady_clock::now();

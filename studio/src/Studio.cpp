@@ -344,7 +344,11 @@ void Studio::setObjectPose(const core::RigidTransform& worldFromObject) {
     mSession->setObjectPose(worldFromObject);
 }
 void Studio::beginStroke() {
-    mSession->beginStroke();
+    // Through sculpt(): the stroke before it may be completed first (a step).
+    sculpt([](Session& s) { s.beginStroke(); });
+}
+bool Studio::pollStrokeFinish(bool wait) {
+    return sculpt([&](Session& s) { return s.pollStrokeFinish(wait); });
 }
 void Studio::strokeSample(const core::Vec3& point, bool world) {
     mSession->strokeSample(point, world);

@@ -18,8 +18,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <map>
+#include <memory>
 #include <random>
+#include <thread>
 #include <tuple>
 #include <vector>
 
@@ -370,6 +373,66 @@ TEST(Smooth, WhileTheStrokeGoesOnAThinArmKeepsItsVolume) {
     const std::vector<SkeletonChange> changes = stroke.takeChanges();
     revertChanges(s, changes);
     EXPECT_NEAR(volumeIn(s, box, 0.3) - sphereOnly, volume0, 1e-9);
+}
+
+// finish() in two parts (beginFinish): the estimate, run on another thread while this one
+// reads the field as a frame would, writes nothing to the store and gives the same bits as
+// finish() alone; a stroke with nothing to estimate hands out no work.
+TEST(Smooth, ItsPenLiftEstimateRunsOnAnotherThreadToTheSameBits) {
+    SculptConfig cfg;
+    Sculpture a(cfg), b(cfg);
+    for (Sculpture* s : {&a, &b}) {
+        applyStroke(*s, ToolOp::Add, 3, path({{36, 0, 0}, {50, 0, 0}, {72, 0, 0}}));
+        applyStroke(*s, ToolOp::Add, 1, path({{50, 3.3, 0}}));
+    }
+    auto smooth = [&](Sculpture& s) {
+        auto stroke = std::make_unique<StrokeBuilder>(s, ToolOp::Smooth, 4);
+        stroke->holdBackChangesBelow(kInteractiveHoldBelow);
+        for (double x = 42; x <= 70; x += 2.5)
+            stroke->addSample(Vec3(x, 0, 3.4));
+        return stroke;
+    };
+    auto whole = smooth(a);
+    whole->finish();
+    auto split = smooth(b);
+    const std::function<void()> estimate = split->beginFinish();
+    ASSERT_TRUE(estimate);
+    const uint64_t writes = b.store().writeCount();
+    std::thread worker(estimate);
+    FieldProbe frame(b);  // the frame thread reads the clay meanwhile
+    double read = 0;
+    for (int i = 0; i < 200; ++i)
+        read += frame.value(Vec3(40 + 0.1 * i, 0, 3));
+    worker.join();
+    EXPECT_TRUE(std::isfinite(read));
+    EXPECT_EQ(b.store().writeCount(), writes);  // the estimate only read
+    split->finish();
+    EXPECT_NE(split->volumeShift().shift, 0.0);
+    EXPECT_EQ(split->volumeShift().shift, whole->volumeShift().shift);
+    EXPECT_EQ(weights(a), weights(b));
+    const std::vector<SkeletonChange> ca = whole->takeChanges(), cb = split->takeChanges();
+    ASSERT_EQ(ca.size(), cb.size());
+    for (size_t i = 0; i < ca.size(); ++i) {
+        EXPECT_EQ(ca[i].coord, cb[i].coord);
+        EXPECT_EQ(ca[i].before, cb[i].before);
+        EXPECT_EQ(ca[i].after, cb[i].after);
+    }
+    // Undo walks back to the start through the split stroke's record too.
+    Sculpture start(cfg);
+    applyStroke(start, ToolOp::Add, 3, path({{36, 0, 0}, {50, 0, 0}, {72, 0, 0}}));
+    applyStroke(start, ToolOp::Add, 1, path({{50, 3.3, 0}}));
+    revertChanges(b, cb);
+    EXPECT_EQ(weights(b), weights(start));
+    // Adds, and smooth strokes that changed nothing, have no estimate to hand out.
+    StrokeBuilder add(a, ToolOp::Add, 4);
+    add.addSample(Vec3(0, 0, 45));
+    EXPECT_FALSE(add.beginFinish());
+    add.finish();
+    StrokeBuilder nothing(a, ToolOp::Smooth, 4);
+    nothing.addSample(Vec3(-30, -30, 0));
+    EXPECT_FALSE(nothing.beginFinish());
+    nothing.finish();
+    EXPECT_TRUE(nothing.takeChanges().empty());
 }
 
 // A size-3 arm with size-1 dabs on it: the surface radius about the arm's axis, sampled

@@ -141,8 +141,9 @@ class Rig {
     /// What the save in flight did, once it is done ("saved DIR", or why not: the journal
     /// keeps every edit); nothing while it runs or without one; `wait` waits. Also logged.
     std::optional<std::string> pollSave(bool wait = false);
-    /// Studio::pollImport(), pollSave() and pollExport() together (what the windows call every
-    /// frame): the outcomes done, joined by "; ". `wait`: until all three are done (close).
+    /// Studio::pollStrokeFinish() (a smooth stroke whose pen-lift estimate is done becomes a
+    /// step), pollImport(), pollSave() and pollExport() together (what the windows call every
+    /// frame): the outcomes done, joined by "; ". `wait`: until all are done (close).
     std::optional<std::string> pollBackgroundWork(bool wait = false);
     /// What a window does as it closes: ends the stroke in flight (journaled like any other)
     /// and, when the journal holds edits the snapshot does not, writes a snapshot, so the

@@ -17,6 +17,7 @@
 #include "vsculpt/core/LatticeMap.h"
 
 #include <array>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -101,6 +102,17 @@ class StrokeBuilder {
     /// Writes the changes held back (none without holdBackChangesBelow). Call it once the
     /// last sample is in, before takeChanges(): the stroke is complete only then.
     EditResult finish();
+    /// finish() in two parts, so that its costly one can run off the frame thread: a smooth
+    /// stroke's volume estimate (placement.smooth_keeps_volume; 12 ms on 2 cores over the
+    /// bumpy arm, docs/benchmarks.md). Once the last sample is in, beginFinish() writes the
+    /// diffusion's own weights back to the store (what the estimate reads; cheap) and returns
+    /// the estimate as work to run, or an empty function when there is none (other tools,
+    /// the correction off, a stroke that changed nothing). The work reads the sculpture and
+    /// nothing of this builder's but what beginFinish() set aside for it: it may run on any
+    /// one thread while the sculpture is only read (its store neither set nor erased) and this
+    /// builder is not called. Then finish() writes the corrected weights on the caller's
+    /// thread. The result is the same bits as finish() alone.
+    std::function<void()> beginFinish();
 
     /// Every vertex change so far, one per vertex (before: the state before the stroke,
     /// after: the current one); a smooth stroke's in the order made, a vertex again each time
@@ -134,8 +146,12 @@ class StrokeBuilder {
     EditResult addSampleSwept(const Vec3& a, const Vec3& p);
     EditResult addSmoothSample(const Vec3& a, const Vec3& p);
     /// finish() of a smooth stroke: gives back the volume the diffusion took or added
-    /// (KeepSmoothedVolume.h; config placement.smooth_keeps_volume), over the whole stroke.
-    EditResult keepSmoothedVolume();
+    /// (KeepSmoothedVolume.h; config placement.smooth_keeps_volume), over the whole stroke,
+    /// in three parts: the diffusion's weights back in the store (what the estimate reads),
+    /// the estimate (reads only; beginFinish() hands it out), the corrected weights written.
+    void prepareSmoothedVolume();
+    void estimateSmoothedVolume();
+    EditResult applySmoothedVolume();
     /// The same during the stroke, for the vertices one sample changed, on a coarser grid:
     /// what the sculptor sees under the brush until finish() makes the stroke's own.
     void previewSmoothedVolume(const std::vector<SkeletonChange>& sampleChanges, EditResult& result,
@@ -227,6 +243,13 @@ class StrokeBuilder {
     std::array<std::unordered_map<LatticeCoord, float, LatticeCoordHash>, kLevelCount>
         mSmoothDiffused;
     std::vector<std::pair<int, LatticeCoord>> mSmoothOrder;
+    // finish()'s smooth correction between its parts: the stroke's net changes (before: the
+    // pre-stroke state, after: the diffusion's weight), what the store showed at each before
+    // the diffusion's weight went back (the last preview), and whether the estimate is made.
+    enum class SmoothFinish { NotStarted, Prepared, Estimated };
+    SmoothFinish mSmoothFinish = SmoothFinish::NotStarted;
+    std::vector<SkeletonChange> mSmoothNet;
+    std::vector<std::optional<float>> mSmoothShown;
 };
 
 /// Applies a whole stroke (object-space path). Returns the union of the changed regions and

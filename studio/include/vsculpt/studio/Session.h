@@ -107,6 +107,22 @@ class Session {
     void strokeSample(const core::Vec3& point, bool world);
     void endStroke();
     bool inStroke() const { return mStroke != nullptr; }
+    /// A smooth stroke's pen-lift volume estimate (core::StrokeBuilder::beginFinish; 12 ms on
+    /// 2 cores over a bumpy arm) off the caller's thread, so the frame does not wait for it:
+    /// endStroke() then returns once the estimate has started, the clay the samples previewed
+    /// stays on show, and the stroke is completed (its corrected weights written and meshed,
+    /// journaled, made an undo step) by pollStrokeFinish() once the estimate is done, or by
+    /// the next call that begins a stroke, edits, undoes, saves or closes, which waits for it.
+    /// Off (the default: playback, tests), endStroke() completes every stroke before it
+    /// returns. The clay and the journal are the same bits either way. The windows and the
+    /// headset turn it on with async meshing. Turning it off completes a pending stroke.
+    void setAsyncStrokeFinish(bool on);
+    bool asyncStrokeFinish() const { return mAsyncFinish; }
+    /// Completes a stroke whose estimate is done; `wait`: waits for it. Returns whether a
+    /// stroke was completed. Errors as endStroke() (the stroke is then taken back).
+    bool pollStrokeFinish(bool wait = false);
+    /// A stroke has ended and its estimate is still to be completed (pollStrokeFinish).
+    bool strokeFinishing() const { return mFinishing != nullptr; }
     /// f - c at `objectPos` as it was before the stroke in progress (the live field when
     /// none is): positive inside that clay (core::StrokeBuilder::preStrokeValueAt).
     double preStrokeValueAt(const core::Vec3& objectPos) const;
@@ -235,6 +251,9 @@ class Session {
                       std::optional<core::AsyncMesher::Focus> focus = std::nullopt);
     /// Takes the stroke in progress back (a refused sample, an error): nothing is journaled.
     void cancelStroke();
+    /// The end of endStroke(): finishes mStroke (the estimate done or made now), meshes,
+    /// journals it and makes it an undo step.
+    void completeStroke();
 
     core::SculptConfig mConfig;
     std::unique_ptr<core::Sculpture> mSculpture;
@@ -263,6 +282,9 @@ class Session {
     std::vector<double> mSampleMs;
     std::unique_ptr<core::StrokeBuilder> mStroke;  // the stroke in progress
     core::StrokeRecord mStrokeRecord;
+    bool mAsyncFinish = false;
+    struct PendingFinish;  // an ended stroke whose estimate runs on a thread of its own
+    std::unique_ptr<PendingFinish> mFinishing;
 
     std::optional<std::filesystem::path> mProjectDir;
     std::unique_ptr<core::ProjectLock> mLock;

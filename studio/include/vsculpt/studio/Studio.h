@@ -77,6 +77,11 @@ class Studio {
 
     /// Session::setAsyncMeshing (the windows turn it on).
     void setAsyncMeshing(bool on) { mSession->setAsyncMeshing(on); }
+    /// Session::setAsyncStrokeFinish (the windows turn it on with async meshing).
+    void setAsyncStrokeFinish(bool on) { mSession->setAsyncStrokeFinish(on); }
+    /// Session::pollStrokeFinish; a completed stroke becomes a step of the timeline. The
+    /// windows call it every frame (Rig::pollBackgroundWork).
+    bool pollStrokeFinish(bool wait = false);
     /// Session::setDeferredMeshing (`vsculpt play` when nothing looks at the mesh per edit).
     void setDeferredMeshing(bool on) { mSession->setDeferredMeshing(on); }
     /// Session::takePublishDelaysMs (how far the mesh trailed the edits).

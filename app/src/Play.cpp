@@ -314,6 +314,11 @@ int runPlay(const PlayOptions& o, std::ostream& out, std::ostream& err) {
                         return 1;
                     }
                 }
+            } catch (const ExpectationError& e) {
+                // The script ran, and the clay is not as it says: a failed check, not bad input.
+                progress.clear();
+                spdlog::error("{}:{}: {}", script.source, c.line, e.what());
+                return 1;
             } catch (const SessionError& e) {
                 progress.clear();
                 spdlog::error("{}:{}: {}", script.source, c.line, e.what());

@@ -506,6 +506,20 @@ Script parseScript(std::string_view text, const std::string& source) {
                        std::to_string(core::kMaxStrokeSamples) + " (split it into strokes)");
             for (size_t i = 1; i < w.size(); i += 3)
                 c.points.push_back(p.point(w, i, "a stroke point"));
+        } else if (cmd == "probe") {
+            arity(3, 3, "a point x y z");
+            c.kind = ScriptCommand::Kind::Probe;
+            c.point = p.point(w, 1, "the probe point");
+        } else if (cmd == "expect") {
+            if (w.size() != 5) arity(4, 4, "inside or outside, then a point x y z");
+            c.kind = ScriptCommand::Kind::Expect;
+            if (w[1] == "inside")
+                c.expectInside = true;
+            else if (w[1] == "outside")
+                c.expectInside = false;
+            else
+                p.fail("unknown expectation '" + w[1] + "' (use inside or outside)");
+            c.point = p.point(w, 2, "the expected point");
         } else if (cmd == "import") {
             parseImport(full, p, source, c);
         } else if (parseSketch(w, p, c)) {
@@ -519,7 +533,7 @@ Script parseScript(std::string_view text, const std::string& source) {
             p.fail(
                 "unknown command '" + cmd +
                 "' (commands: tool, size, zoom, object, space, stroke, mirror, import, undo, redo, "
-                "save; "
+                "save, probe, expect; "
                 "sketch: page, mode, kind, pen, endgroup, tick, canvas, select, move, scale, "
                 "delete, role, reuse, solid, model-line)");
         }

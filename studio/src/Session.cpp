@@ -326,6 +326,17 @@ bool Session::apply(const ScriptCommand& c) {
         case K::Save:
             save();
             return false;
+        case K::Probe:
+            spdlog::info("line {}: probe {}", c.line, readField(c.point, mWorldSpace).describe());
+            return false;
+        case K::Expect: {
+            const FieldReading r = readField(c.point, mWorldSpace);
+            if (r.inside() != c.expectInside)
+                throw ExpectationError(std::string("expect ") +
+                                       (c.expectInside ? "inside" : "outside") +
+                                       " failed: " + r.describe());
+            return false;
+        }
         case K::Sketch:
             break;
         case K::Import:
@@ -336,6 +347,54 @@ bool Session::apply(const ScriptCommand& c) {
     throw SessionError(
         "a sketch command needs the sketch mode (vsculpt play and vsculpt "
         "sketch run them)");
+}
+
+std::string FieldReading::describe() const {
+    char text[320];
+    const Vec3& p = objectPos;
+    const double g = glm::length(gradient);
+    int n = std::snprintf(text, sizeof text, "(%g, %g, %g): %s the clay (f - c = %+.4g)", p.x, p.y,
+                          p.z, inside() ? "inside" : "outside", value);
+    if (g > 0 && n > 0 && size_t(n) < sizeof text) {
+        // The field grows into the clay: the outward normal is against the gradient.
+        Vec3 out = -gradient / g;
+        for (int a = 0; a < 3; ++a)
+            if (std::abs(out[a]) < 0.005) out[a] = 0;  // no "-0.00"
+
+        char away[64] = "no surface within 200 mm";
+        if (surfaceMm) std::snprintf(away, sizeof away, "the surface %.3g mm away", *surfaceMm);
+        std::snprintf(text + n, sizeof text - size_t(n), ", %s along the normal (%.2f, %.2f, %.2f)",
+                      away, out.x, out.y, out.z);
+    }
+    return text;
+}
+
+FieldReading Session::readField(const Vec3& point, bool world) {
+    pollStrokeFinish(true);
+    FieldReading r;
+    r.objectPos = world ? mWorldFromObject.inverse().apply(point) : point;
+    FieldProbe probe(*mSculpture);
+    const FieldSample f = probe.sample(r.objectPos);
+    r.value = f.value;
+    r.gradient = f.gradient;
+    const double g = glm::length(f.gradient);
+    if (!(g > 0)) return r;
+    // Along the gradient's line towards the other side: into the clay from outside, out of it
+    // from inside. Steps of 0.25 mm, then bisection to a micrometre.
+    const Vec3 dir = (r.inside() ? -1.0 : 1.0) * f.gradient / g;
+    constexpr double kStep = 0.25;
+    const bool inside = r.inside();
+    for (double t = kStep; t <= FieldReading::kSurfaceSearchMm; t += kStep) {
+        if ((probe.value(r.objectPos + dir * t) > 0) == inside) continue;
+        double lo = t - kStep, hi = t;
+        while (hi - lo > 1e-4) {
+            const double mid = 0.5 * (lo + hi);
+            ((probe.value(r.objectPos + dir * mid) > 0) == inside ? lo : hi) = mid;
+        }
+        r.surfaceMm = 0.5 * (lo + hi);
+        break;
+    }
+    return r;
 }
 
 double Session::preStrokeValueAt(const Vec3& objectPos) const {

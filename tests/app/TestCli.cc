@@ -64,6 +64,37 @@ TEST(Cli, ARecordingReplaysWithTheSphereItWasRecordedWith) {
     std::filesystem::remove_all(dir);
 }
 
+// A script checks itself: `expect inside|outside` fails the run (exit 1, file and line) when
+// the clay is not so, after the strokes before it; `probe` says what the clay is at a point.
+TEST(Cli, AScriptsExpectationsCheckTheClay) {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                      ("vsculpt-cli-expect-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string good = (dir / "good.vsc").string(), bad = (dir / "bad.vsc").string();
+    // A size-5 carve dab at the top of the sphere (radius 40): a pit 7.5 mm deep.
+    const char* carve = "expect inside 0 0 38\ntool carve\nsize 5\nstroke 0 0 40\n";
+    std::ofstream(good) << carve << "expect outside 0 0 38\nexpect inside 0 0 31\nprobe 0 0 38\n";
+    std::ofstream(bad) << carve << "expect outside 0 0 34\nexpect inside 0 0 38\n";
+    const CliRun a = run({"play", good.c_str(), "--no-progress"});
+    EXPECT_EQ(a.code, 0) << a.err;
+    const size_t said = a.err.find("line 7: probe (0, 0, 38): outside the clay (f - c = -");
+    ASSERT_NE(said, std::string::npos) << a.err;
+    // The pit's floor below it, along the normal: 40 - 7.5 (the dab's pit within 5 %) - 38.
+    const size_t away = a.err.find("the surface ", said);
+    ASSERT_NE(away, std::string::npos) << a.err;
+    const double floorMm = std::atof(a.err.c_str() + away + 12);
+    EXPECT_GT(floorMm, 5.5 - 0.4) << a.err;
+    EXPECT_LT(floorMm, 5.5 + 0.4) << a.err;
+    EXPECT_NE(a.err.find("mm away along the normal (0.00, 0.00, 1.00)", said), std::string::npos)
+        << a.err;
+    const CliRun b = run({"play", bad.c_str(), "--no-progress"});
+    EXPECT_EQ(b.code, 1) << b.err;
+    EXPECT_NE(b.err.find("bad.vsc:6: expect inside failed: (0, 0, 38): outside the clay"),
+              std::string::npos)
+        << b.err;
+    std::filesystem::remove_all(dir);
+}
+
 TEST(Cli, WithoutADisplayTheDefaultRunSaysSoAndPrintsTheSummary) {
     ::unsetenv("DISPLAY");
     ::unsetenv("WAYLAND_DISPLAY");

@@ -29,12 +29,15 @@ stroke 0 0 0 \
 undo
 redo
 save
+probe 1 -2 3.5
+expect inside 0 0 10
+expect outside 0 0 99
 )",
                                  "t.vsc");
-    const std::vector<Kind> kinds = {Kind::Tool,  Kind::Tool,  Kind::Tool,   Kind::Size,
-                                     Kind::Zoom,  Kind::Zoom,  Kind::Object, Kind::Object,
-                                     Kind::Space, Kind::Space, Kind::Stroke, Kind::Stroke,
-                                     Kind::Undo,  Kind::Redo,  Kind::Save};
+    const std::vector<Kind> kinds = {
+        Kind::Tool,   Kind::Tool,   Kind::Tool,  Kind::Size,  Kind::Zoom,   Kind::Zoom,
+        Kind::Object, Kind::Object, Kind::Space, Kind::Space, Kind::Stroke, Kind::Stroke,
+        Kind::Undo,   Kind::Redo,   Kind::Save,  Kind::Probe, Kind::Expect, Kind::Expect};
     ASSERT_EQ(s.commands.size(), kinds.size());
     for (size_t i = 0; i < kinds.size(); ++i)
         EXPECT_EQ(s.commands[i].kind, kinds[i]) << i;
@@ -54,6 +57,10 @@ save
     EXPECT_EQ(s.commands[11].line, 13);           // reported at its first line
     EXPECT_EQ(s.commands[11].points[2], vsculpt::core::Vec3(7, 8, 9));
     EXPECT_EQ(s.commands[1].line, 3);
+    EXPECT_EQ(s.commands[15].point, vsculpt::core::Vec3(1, -2, 3.5));
+    EXPECT_TRUE(s.commands[16].expectInside);
+    EXPECT_EQ(s.commands[16].point, vsculpt::core::Vec3(0, 0, 10));
+    EXPECT_FALSE(s.commands[17].expectInside);
 }
 
 struct Bad {
@@ -79,6 +86,10 @@ TEST(Script, BadLinesNameTheirLine) {
         {"object 1 2\n", "t.vsc:1: 'object' takes x y z [qw qx qy qz]"},
         {"undo now\n", "t.vsc:1: 'undo' takes no arguments"},
         {"space up\n", "t.vsc:1: unknown space 'up'"},
+        {"expect above 1 2 3\n", "t.vsc:1: unknown expectation 'above' (use inside or outside)"},
+        {"expect inside 1 2\n", "t.vsc:1: 'expect' takes inside or outside, then a point x y z"},
+        {"expect inside 1 2 z\n", "t.vsc:1: expected a number for the expected point, got 'z'"},
+        {"probe 1 2\n", "t.vsc:1: 'probe' takes a point x y z (got 2 argument(s))"},
         {"tool add\nstroke 0 0 0 \\\n", "t.vsc:2: the command continued with '\\' never ends"},
         // A bad word in a command continued over lines is named on its own line.
         {"tool add\nstroke 0 0 0 \\\n  1 1 1 \\\n  2 x 2\n",

@@ -87,15 +87,18 @@ struct ScriptCommand {
         Save,
         Sketch,
         Import,
-        Mirror
+        Mirror,
+        Probe,  ///< probe x y z: says what the clay is there (logged)
+        Expect  ///< expect inside|outside x y z: fails the run when the clay is not so there
     };
     Kind kind = Kind::Undo;
     int line = 0;  ///< where the command starts
     ToolKind tool = ToolKind::Add;
     core::MirrorAxis mirror = core::MirrorAxis::None;  ///< mirror
-    int value = 0;          ///< size K / zoom Z / import level K (0: from the mesh's size)
-    bool hasPoint = false;  ///< zoom with a centre
-    core::Vec3 point{0.0};
+    int value = 0;                   ///< size K / zoom Z / import level K (0: from the mesh's size)
+    bool hasPoint = false;           ///< zoom with a centre
+    core::Vec3 point{0.0};           ///< zoom centre; probe and expect point (read as strokes are)
+    bool expectInside = true;        ///< expect inside (false: outside)
     core::RigidTransform pose;       ///< object
     bool world = false;              ///< space
     std::vector<core::Vec3> points;  ///< stroke

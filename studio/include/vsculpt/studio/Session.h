@@ -38,6 +38,30 @@ class SessionError : public std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+/// A script's `expect` that does not hold (the clay is not there, or is where it should not
+/// be): the run's failure, not a bad input (`vsculpt play` exits 1).
+class ExpectationError : public SessionError {
+  public:
+    using SessionError::SessionError;
+};
+
+/// The field at a point, as a script's `probe` and `expect` read it (object space, mm).
+struct FieldReading {
+    core::Vec3 objectPos{0.0};
+    double value = 0;  ///< f - c: positive inside the clay
+    core::Vec3 gradient{0.0};
+    /// How far the surface is along the gradient's line (towards the clay from outside, out of
+    /// it from inside), found by marching in 0.25 mm steps and bisecting: exact along that
+    /// line, not the nearest point of the surface; none within kSurfaceSearchMm, or where
+    /// the field is flat.
+    std::optional<double> surfaceMm;
+    static constexpr double kSurfaceSearchMm = 200;
+    bool inside() const { return value > 0; }
+    /// "(0, 0, 38): outside the clay (f - c = -0.1806), the surface 5.5 mm away along the
+    /// normal (0.00, 0.00, 1.00)", the normal pointing out of the clay.
+    std::string describe() const;
+};
+
 /// How a project is opened. ReadOnly never writes to the folder (no journal truncation, no
 /// snapshot, no lock file; works on read-only media): `vsculpt render PROJECT`.
 enum class ProjectMode { ReadWrite, ReadOnly };
@@ -95,6 +119,9 @@ class Session {
     /// Runs one playback-script command. Returns true when it changed the sculpture (a
     /// stroke, or an undo/redo that had something to do). Errors as the methods below.
     bool apply(const ScriptCommand& command);
+    /// The field at a point (in world space when `world`, through the object's pose), with
+    /// every ended stroke completed first (pollStrokeFinish).
+    FieldReading readField(const core::Vec3& point, bool world);
 
     // Edits -----------------------------------------------------------------------------
     /// One stroke (one undo step) through the given points, in world space when `world`.

@@ -8,6 +8,7 @@
 #include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -349,24 +350,32 @@ bool Session::apply(const ScriptCommand& c) {
         "sketch run them)");
 }
 
-std::string FieldReading::describe() const {
-    char text[320];
-    const Vec3& p = objectPos;
-    const double g = glm::length(gradient);
-    int n = std::snprintf(text, sizeof text, "(%g, %g, %g): %s the clay (f - c = %+.4g)", p.x, p.y,
-                          p.z, inside() ? "inside" : "outside", value);
-    if (g > 0 && n > 0 && size_t(n) < sizeof text) {
-        // The field grows into the clay: the outward normal is against the gradient.
-        Vec3 out = -gradient / g;
-        for (int a = 0; a < 3; ++a)
-            if (std::abs(out[a]) < 0.005) out[a] = 0;  // no "-0.00"
-
-        char away[64] = "no surface within 200 mm";
-        if (surfaceMm) std::snprintf(away, sizeof away, "the surface %.3g mm away", *surfaceMm);
-        std::snprintf(text + n, sizeof text - size_t(n), ", %s along the normal (%.2f, %.2f, %.2f)",
-                      away, out.x, out.y, out.z);
-    }
+namespace {
+// "(0.00, 0.71, -0.71)", without "-0.00".
+std::string direction(const Vec3& d) {
+    char text[64];
+    auto tidy = [](double v) { return std::abs(v) < 0.005 ? 0.0 : v; };
+    std::snprintf(text, sizeof text, "(%.2f, %.2f, %.2f)", tidy(d.x), tidy(d.y), tidy(d.z));
     return text;
+}
+}  // namespace
+
+std::string FieldReading::describe() const {
+    char text[160];
+    const Vec3& p = objectPos;
+    std::snprintf(text, sizeof text, "(%g, %g, %g): %s the clay (f - c = %+.4g)", p.x, p.y, p.z,
+                  inside() ? "inside" : "outside", value);
+    std::string said = text;
+    if (surfaceMm) {
+        std::snprintf(text, sizeof text, "; the surface %.3g mm away towards ", *surfaceMm);
+        said += text + direction(surfaceDirection);
+    } else {
+        said += "; no surface within 200 mm";
+    }
+    // The field grows into the clay: the outward normal is against the gradient.
+    if (const double g = glm::length(gradient); g > 0)
+        said += "; outward normal " + direction(-gradient / g);
+    return said;
 }
 
 FieldReading Session::readField(const Vec3& point, bool world) {
@@ -377,22 +386,35 @@ FieldReading Session::readField(const Vec3& point, bool world) {
     const FieldSample f = probe.sample(r.objectPos);
     r.value = f.value;
     r.gradient = f.gradient;
-    const double g = glm::length(f.gradient);
-    if (!(g > 0)) return r;
-    // Along the gradient's line towards the other side: into the clay from outside, out of it
-    // from inside. Steps of 0.25 mm, then bisection to a micrometre.
-    const Vec3 dir = (r.inside() ? -1.0 : 1.0) * f.gradient / g;
+    // Rays: the gradient's line both ways (the nearest surface near it) and the 26 directions to
+    // a cube's neighbours (where the gradient's line runs along a limb or out of a pit).
+    std::vector<Vec3> rays;
+    if (const double g = glm::length(f.gradient); g > 0) {
+        rays.push_back(f.gradient / g);
+        rays.push_back(-f.gradient / g);
+    }
+    for (int z = -1; z <= 1; ++z)
+        for (int y = -1; y <= 1; ++y)
+            for (int x = -1; x <= 1; ++x)
+                if (x || y || z) rays.push_back(glm::normalize(Vec3(x, y, z)));
     constexpr double kStep = 0.25;
     const bool inside = r.inside();
-    for (double t = kStep; t <= FieldReading::kSurfaceSearchMm; t += kStep) {
-        if ((probe.value(r.objectPos + dir * t) > 0) == inside) continue;
-        double lo = t - kStep, hi = t;
-        while (hi - lo > 1e-4) {
-            const double mid = 0.5 * (lo + hi);
-            ((probe.value(r.objectPos + dir * mid) > 0) == inside ? lo : hi) = mid;
+    for (const Vec3& dir : rays) {
+        const double reach = std::min(FieldReading::kSurfaceSearchMm, r.surfaceMm.value_or(1e300));
+        for (double t = kStep; t <= reach; t += kStep) {
+            if ((probe.value(r.objectPos + dir * t) > 0) == inside) continue;
+            double lo = t - kStep, hi = t;
+            while (hi - lo > 1e-4) {
+                const double mid = 0.5 * (lo + hi);
+                ((probe.value(r.objectPos + dir * mid) > 0) == inside ? lo : hi) = mid;
+            }
+            const double found = 0.5 * (lo + hi);
+            if (!r.surfaceMm || found < *r.surfaceMm) {
+                r.surfaceMm = found;
+                r.surfaceDirection = dir;
+            }
+            break;
         }
-        r.surfaceMm = 0.5 * (lo + hi);
-        break;
     }
     return r;
 }

@@ -79,13 +79,15 @@ TEST(Cli, AScriptsExpectationsCheckTheClay) {
     EXPECT_EQ(a.code, 0) << a.err;
     const size_t said = a.err.find("line 7: probe (0, 0, 38): outside the clay (f - c = -");
     ASSERT_NE(said, std::string::npos) << a.err;
-    // The pit's floor below it, along the normal: 40 - 7.5 (the dab's pit within 5 %) - 38.
+    // The pit's floor straight below it: 38 - (40 - 7.5) (the dab's pit within 5 %).
     const size_t away = a.err.find("the surface ", said);
     ASSERT_NE(away, std::string::npos) << a.err;
     const double floorMm = std::atof(a.err.c_str() + away + 12);
     EXPECT_GT(floorMm, 5.5 - 0.4) << a.err;
     EXPECT_LT(floorMm, 5.5 + 0.4) << a.err;
-    EXPECT_NE(a.err.find("mm away along the normal (0.00, 0.00, 1.00)", said), std::string::npos)
+    EXPECT_NE(
+        a.err.find("mm away towards (0.00, 0.00, -1.00); outward normal (0.00, 0.00, 1.00)", said),
+        std::string::npos)
         << a.err;
     const CliRun b = run({"play", bad.c_str(), "--no-progress"});
     EXPECT_EQ(b.code, 1) << b.err;

@@ -50,15 +50,17 @@ struct FieldReading {
     core::Vec3 objectPos{0.0};
     double value = 0;  ///< f - c: positive inside the clay
     core::Vec3 gradient{0.0};
-    /// How far the surface is along the gradient's line (towards the clay from outside, out of
-    /// it from inside), found by marching in 0.25 mm steps and bisecting: exact along that
-    /// line, not the nearest point of the surface; none within kSurfaceSearchMm, or where
-    /// the field is flat.
+    /// The nearest surface found along 28 rays (the 26 directions to a cube's neighbours and
+    /// both ways along the gradient), each marched in 0.25 mm steps up to kSurfaceSearchMm
+    /// and bisected: exact along its ray, so an upper bound on the distance to the surface
+    /// (within a few per cent of it for a surface curved less than the rays are apart).
     std::optional<double> surfaceMm;
+    core::Vec3 surfaceDirection{0.0};  ///< the ray it was found along (unit)
     static constexpr double kSurfaceSearchMm = 200;
     bool inside() const { return value > 0; }
-    /// "(0, 0, 38): outside the clay (f - c = -0.1806), the surface 5.5 mm away along the
-    /// normal (0.00, 0.00, 1.00)", the normal pointing out of the clay.
+    /// "(0, 0, 37): outside the clay (f - c = -0.04826); the surface 1.26 mm away towards
+    /// (0.00, 0.00, -1.00); outward normal (0.00, 0.00, 1.00)", the normal the field's (out of
+    /// the clay: against its gradient).
     std::string describe() const;
 };
 

@@ -2,15 +2,17 @@
 // Shared fixtures of the app tests: a small, quick config and a temporary folder.
 #pragma once
 
-#include "vsculpt/studio/Session.h"
 #include "vsculpt/core/Config.h"
 #include "vsculpt/core/Mesh.h"
+#include "vsculpt/studio/Session.h"
 
 #include <unistd.h>
 
 #include <filesystem>
+#include <map>
 #include <random>
 #include <string>
+#include <tuple>
 
 namespace vsculpt::test {
 
@@ -25,6 +27,17 @@ inline core::SculptConfig smallConfig(double sphereRadiusMm = 30) {
 /// The canonical hash of the mesh on show.
 inline uint64_t viewHash(const studio::Session& s) {
     return core::canonicalMeshHash(s.view().mesh());
+}
+
+/// Every skeleton's weight by (level, x, y, z): two sculptures hold the same clay bit for bit
+/// exactly when these are equal.
+using Weights = std::map<std::tuple<int, int, int, int>, float>;
+inline Weights weightsOf(const core::Sculpture& s) {
+    Weights w;
+    s.store().forEach([&](const core::SkeletonEntry& e) {
+        w[{e.level, e.coord.x, e.coord.y, e.coord.z}] = e.weight;
+    });
+    return w;
 }
 
 /// A temporary folder removed at the end of the test.

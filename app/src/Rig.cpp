@@ -188,16 +188,17 @@ studio::Script loadWindowScript(const std::string& path) {
     return studio::loadScript(path);
 }
 
-bool playNextScriptCommand(Studio& studio, const studio::Script& script, size_t& index) {
-    if (index >= script.commands.size()) return true;
+int playNextScriptCommand(Studio& studio, const studio::Script& script, size_t& index) {
+    if (index >= script.commands.size()) return 0;
     const studio::ScriptCommand& c = script.commands[index++];
     try {
         studio.apply(c);
     } catch (const std::exception& e) {
         spdlog::error("{}:{}: {}", script.source, c.line, e.what());
-        return false;
+        // A check that does not hold is the run's failure, as `vsculpt play` says it.
+        return dynamic_cast<const studio::ExpectationError*>(&e) ? 1 : 2;
     }
-    return true;
+    return 0;
 }
 
 void warnIfScriptUnfinished(const studio::Script& script, size_t index) {

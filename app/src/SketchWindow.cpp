@@ -235,8 +235,8 @@ int runSketchWindow(const SketchWindowOptions& options, std::ostream& out, std::
         };
 
         // A script line refused stops the script; the work before it is closed as usual.
-        if (!playNextScriptCommand(studio, script, commandIndex)) {
-            code = 2;
+        if (const int failed = playNextScriptCommand(studio, script, commandIndex)) {
+            code = failed;
             break;
         }
         for (const auto& [at, ev] : o.injectedEvents)

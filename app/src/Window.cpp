@@ -194,8 +194,8 @@ int runWindow(const WindowOptions& options, std::ostream& out, std::ostream& err
         const auto t0 = std::chrono::steady_clock::now();
         // Scripted commands first (one per frame), then live input.
         // A script line refused stops the script; the work before it is closed as usual.
-        if (!playNextScriptCommand(studio, script, commandIndex)) {
-            code = 2;
+        if (const int failed = playNextScriptCommand(studio, script, commandIndex)) {
+            code = failed;
             break;
         }
         const ToolLevel& level = session.sculpture().levels().level(session.size());

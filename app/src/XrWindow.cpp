@@ -218,9 +218,9 @@ int runXr(const WindowOptions& options, const core::SculptConfig& cfg, Script sc
             xr->beginFrame();
             Studio& studio = rig->studio();
             const Session& session = rig->session();
-            if (!playNextScriptCommand(studio, script, commandIndex)) {
+            if (const int failed = playNextScriptCommand(studio, script, commandIndex)) {
                 xr->requestExit();
-                code = 2;
+                code = failed;
             }
             XrHands hands = handsInWorld(xr->syncInput(timing.predictedDisplayTime), cfg.render.xr);
             if (!clicked.empty()) {

@@ -9,23 +9,13 @@
 
 #include <gtest/gtest.h>
 
-#include <map>
-#include <tuple>
-
 using namespace vsculpt;
 using core::Vec3;
 
 namespace {
 
-using Weights = std::map<std::tuple<int, int, int, int>, float>;
-
-Weights weightsOf(const core::Sculpture& s) {
-    Weights w;
-    s.store().forEach([&](const core::SkeletonEntry& e) {
-        w[{e.level, e.coord.x, e.coord.y, e.coord.z}] = e.weight;
-    });
-    return w;
-}
+using test::Weights;
+using test::weightsOf;
 
 // A size-3 arm, then size-4 smooth strokes along it (no finer detail: the export below
 // meshes at the finest size's spacing).

@@ -6,12 +6,12 @@
 #include "vsculpt/studio/Session.h"
 #include "vsculpt/studio/Studio.h"
 
+#include "../TestFixtures.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <map>
 #include <string>
-#include <tuple>
 
 #include <unistd.h>
 
@@ -44,15 +44,8 @@ core::SculptConfig smallConfig() {
     return cfg;
 }
 
-using Weights = std::map<std::tuple<int, int, int, int>, float>;
-
-Weights weightsOf(const core::Sculpture& s) {
-    Weights w;
-    s.store().forEach([&](const core::SkeletonEntry& e) {
-        w[{e.level, e.coord.x, e.coord.y, e.coord.z}] = e.weight;
-    });
-    return w;
-}
+using test::Weights;
+using test::weightsOf;
 
 void play(Session& s, const char* text) {
     for (const ScriptCommand& c : parseScript(text, "test.vsc").commands)

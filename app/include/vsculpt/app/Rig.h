@@ -102,7 +102,10 @@ void installProjector(studio::Studio& studio);
 /// saying to replay it with `vsculpt play` (std::invalid_argument), not "unknown command".
 studio::Script loadWindowScript(const std::string& path);
 
-bool playNextScriptCommand(studio::Studio& studio, const studio::Script& script, size_t& index);
+/// Runs a window's next --play command (one a frame). Returns the exit code the window ends with
+/// when the command failed (logged with the script's file and line): 1 for an `expect` that
+/// does not hold, 2 for a line the session refuses; 0 when it ran (or none is left).
+int playNextScriptCommand(studio::Studio& studio, const studio::Script& script, size_t& index);
 /// A window's run ended (--frames, its close box, a signal) before its --play script did:
 /// warns naming the line it stopped at, so a partial run is not taken for the whole.
 void warnIfScriptUnfinished(const studio::Script& script, size_t index);

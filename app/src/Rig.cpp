@@ -410,16 +410,17 @@ std::optional<std::string> Rig::pollBackgroundWork(bool wait) {
     // (Session::setAsyncStrokeFinish), then the import: once in, the save and export that
     // follow hold them. (The save and the export log their own outcomes.)
     std::optional<std::string> said;
+    auto join = [&](const std::optional<std::string>& done) {
+        if (done) said = said ? *said + "; " + *done : *done;
+    };
     try {
         mStudio->pollStrokeFinish(wait);
     } catch (const std::exception& e) {
-        said = std::string("the stroke was not kept: ") + e.what();
+        join(std::string("the stroke was not kept: ") + e.what());
         spdlog::warn("{}", *said);
     }
-    if (std::optional<std::string> imported = pollImport(wait))
-        said = said ? *said + "; " + *imported : *imported;
-    for (std::optional<std::string> done : {pollSave(wait), pollExport(wait)})
-        if (done) said = said ? *said + "; " + *done : *done;
+    for (std::optional<std::string> done : {pollImport(wait), pollSave(wait), pollExport(wait)})
+        join(done);
     return said;
 }
 

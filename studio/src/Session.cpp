@@ -328,16 +328,16 @@ bool Session::apply(const ScriptCommand& c) {
             save();
             return false;
         case K::Probe:
-            spdlog::info("line {}: probe {}", c.line, readField(c.point, mWorldSpace).describe());
+            spdlog::info("line {}: probe {}", c.line,
+                         readField(c.point, mWorldSpace, true).describe());
             return false;
-        case K::Expect: {
-            const FieldReading r = readField(c.point, mWorldSpace);
-            if (r.inside() != c.expectInside)
-                throw ExpectationError(std::string("expect ") +
-                                       (c.expectInside ? "inside" : "outside") +
-                                       " failed: " + r.describe());
+        case K::Expect:
+            // The surface is searched for only to say where it is when the check fails.
+            if (readField(c.point, mWorldSpace, false).inside() != c.expectInside)
+                throw ExpectationError(
+                    std::string("expect ") + (c.expectInside ? "inside" : "outside") +
+                    " failed: " + readField(c.point, mWorldSpace, true).describe());
             return false;
-        }
         case K::Sketch:
             break;
         case K::Import:
@@ -370,7 +370,8 @@ std::string FieldReading::describe() const {
         std::snprintf(text, sizeof text, "; the surface %.3g mm away towards ", *surfaceMm);
         said += text + direction(surfaceDirection);
     } else {
-        said += "; no surface within 200 mm";
+        std::snprintf(text, sizeof text, "; no surface within %g mm", kSurfaceSearchMm);
+        said += text;
     }
     // The field grows into the clay: the outward normal is against the gradient.
     if (const double g = glm::length(gradient); g > 0)
@@ -378,7 +379,7 @@ std::string FieldReading::describe() const {
     return said;
 }
 
-FieldReading Session::readField(const Vec3& point, bool world) {
+FieldReading Session::readField(const Vec3& point, bool world, bool findSurface) {
     pollStrokeFinish(true);
     FieldReading r;
     r.objectPos = world ? mWorldFromObject.inverse().apply(point) : point;
@@ -386,6 +387,7 @@ FieldReading Session::readField(const Vec3& point, bool world) {
     const FieldSample f = probe.sample(r.objectPos);
     r.value = f.value;
     r.gradient = f.gradient;
+    if (!findSurface) return r;
     // Rays: the gradient's line both ways (the nearest surface near it) and the 26 directions to
     // a cube's neighbours (where the gradient's line runs along a limb or out of a pit).
     std::vector<Vec3> rays;

@@ -9,13 +9,9 @@
 
 #include <benchmark/benchmark.h>
 
-#include <algorithm>
-#include <chrono>
 #include <map>
 #include <memory>
 #include <random>
-#include <thread>
-#include <vector>
 
 using namespace vsculpt::core;
 
@@ -205,91 +201,6 @@ void BM_PickTool(benchmark::State& state) {
     if (inStroke) s.endStroke();
 }
 BENCHMARK(BM_PickTool)->Arg(0)->Arg(1)->ArgName("in_stroke")->Unit(benchmark::kMicrosecond);
-
-// What a smooth stroke's pen lift costs the frame thread (Session::setAsyncStrokeFinish):
-// the bumpy arm of examples/smooth-bumpy-arm.vsc (a size-3 arm, 14 size-1 dabs) under a size-4
-// smooth stroke along it, samples 0.25 D apart, in a session with the asynchronous mesher as
-// the windows run it. Reported: the frame thread's wall time in endStroke() (`lift_ms`), in
-// the frame's poll that completes the stroke (`complete_ms`: its weights written, posted to
-// the mesher, journaled), and from the lift to the step (`lift_to_step_ms`, polled every
-// 11.1 ms frame as Rig::pollBackgroundWork does). async:0 is endStroke() completing the
-// stroke itself (the estimate on the frame), as before stop 43. Medians over the iterations;
-// each is undone (waiting for nothing) before the next.
-void BM_SmoothPenLift(benchmark::State& state) {
-    using Clock = std::chrono::steady_clock;
-    const bool async = state.range(0) != 0;
-    vsculpt::studio::Session s{SculptConfig{}};
-    s.setAsyncMeshing(true);
-    s.setAsyncStrokeFinish(async);
-    s.setZoom(3, Vec3(54, 0, 0));
-    s.setSize(3);
-    s.stroke({Vec3(36, 0, 0), Vec3(50, 0, 0), Vec3(72, 0, 0)}, false);
-    s.setZoom(5, Vec3(54, 0, 0));
-    s.setSize(1);
-    std::mt19937 rng(1);
-    std::uniform_real_distribution<double> angle(0, 6.283185307179586);
-    for (double x = 42; x <= 68; x += 2) {
-        const double a = angle(rng);
-        s.stroke({Vec3(x, 3.3 * std::cos(a), 3.3 * std::sin(a))}, false);
-    }
-    s.setZoom(4, Vec3(54, 0, 0));
-    s.setSize(4);
-    s.setTool(vsculpt::studio::ToolKind::Smooth);
-    const double spacing = 0.25 * s.sculpture().levels().level(4).diameterMm;
-    auto ms = [](Clock::time_point a, Clock::time_point b) {
-        return std::chrono::duration<double, std::milli>(b - a).count();
-    };
-    std::vector<double> lift, complete, toStep;
-    for (auto _ : state) {
-        s.beginStroke();
-        for (double x = 40; x <= 68; x += spacing)
-            s.strokeSample(Vec3(x, 3.4, 0), false);
-        const auto t0 = Clock::now();
-        s.endStroke();
-        const auto t1 = Clock::now();
-        lift.push_back(ms(t0, t1));
-        if (!async) {
-            complete.push_back(0);
-            toStep.push_back(ms(t0, t1));
-        } else {
-            for (auto frame = t1;;) {
-                frame += std::chrono::nanoseconds(11'111'111);
-                std::this_thread::sleep_until(frame);
-                const auto p0 = Clock::now();
-                const bool done = s.pollStrokeFinish();
-                const auto p1 = Clock::now();
-                if (!done) continue;
-                complete.push_back(ms(p0, p1));
-                toStep.push_back(ms(t0, p1));
-                break;
-            }
-        }
-        state.PauseTiming();
-        s.waitForMesh();
-        s.undo();
-        s.waitForMesh();
-        state.ResumeTiming();
-    }
-    auto median = [](std::vector<double> v) {
-        std::sort(v.begin(), v.end());
-        return v.empty() ? 0.0 : v[v.size() / 2];
-    };
-    auto most = [](const std::vector<double>& v) {
-        return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
-    };
-    state.counters["lift_ms"] = median(lift);
-    state.counters["lift_max_ms"] = most(lift);
-    state.counters["complete_ms"] = median(complete);
-    state.counters["complete_max_ms"] = most(complete);
-    state.counters["lift_to_step_ms"] = median(toStep);
-}
-BENCHMARK(BM_SmoothPenLift)
-    ->ArgName("async")
-    ->Arg(0)
-    ->Arg(1)
-    ->Unit(benchmark::kMillisecond)
-    ->Iterations(10)
-    ->UseRealTime();
 
 }  // namespace
 

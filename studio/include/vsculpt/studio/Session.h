@@ -50,10 +50,11 @@ struct FieldReading {
     core::Vec3 objectPos{0.0};
     double value = 0;  ///< f - c: positive inside the clay
     core::Vec3 gradient{0.0};
-    /// The nearest surface found along 28 rays (the 26 directions to a cube's neighbours and
-    /// both ways along the gradient), each marched in 0.25 mm steps up to kSurfaceSearchMm
-    /// and bisected: exact along its ray, so an upper bound on the distance to the surface
-    /// (within a few per cent of it for a surface curved less than the rays are apart).
+    /// Only when asked for (readField's `findSurface`): the nearest surface found along 28 rays
+    /// (the 26 directions to a cube's neighbours and both ways along the gradient), each marched in
+    /// 0.25 mm steps up to kSurfaceSearchMm and bisected: exact along its ray, so an upper bound on
+    /// the distance to the surface (within a few per cent of it for a surface curved less than the
+    /// rays are apart).
     std::optional<double> surfaceMm;
     core::Vec3 surfaceDirection{0.0};  ///< the ray it was found along (unit)
     static constexpr double kSurfaceSearchMm = 200;
@@ -122,8 +123,9 @@ class Session {
     /// stroke, or an undo/redo that had something to do). Errors as the methods below.
     bool apply(const ScriptCommand& command);
     /// The field at a point (in world space when `world`, through the object's pose), with
-    /// every ended stroke completed first (pollStrokeFinish).
-    FieldReading readField(const core::Vec3& point, bool world);
+    /// every ended stroke completed first (pollStrokeFinish); `findSurface` also searches for
+    /// the nearest surface (FieldReading::surfaceMm: a few thousand evaluations more).
+    FieldReading readField(const core::Vec3& point, bool world, bool findSurface);
 
     // Edits -----------------------------------------------------------------------------
     /// One stroke (one undo step) through the given points, in world space when `world`.

@@ -420,6 +420,11 @@ SculptConfig parseConfigText(std::string_view jsonText, const std::string& sourc
                            "expected an integer 0..2, got " + v->dump());
         cfg.finerLatticeLevels = v->get<int>();
     }
+    if (const json* v = placement.find("refine_levels")) {
+        if (!isIntegerIn(*v, 0, 2))
+            placement.fail("placement.refine_levels", "expected an integer 0..2, got " + v->dump());
+        cfg.refineLevels = v->get<int>();
+    }
     if (stored && !placement.find("smooth_keeps_volume")) cfg.smoothKeepsVolume = false;
     if (const json* v = placement.find("smooth_keeps_volume")) {
         if (!v->is_boolean())
@@ -804,6 +809,7 @@ std::string configToJson(const SculptConfig& c) {
         j["field"]["support"] = "calibrate";
     j["placement"] = {{"mode", toString(c.placement)},
                       {"finer_lattice_levels", c.finerLatticeLevels},
+                      {"refine_levels", c.refineLevels},
                       {"smooth_keeps_volume", c.smoothKeepsVolume}};
     j["initial_sphere"] = {
         {"radius_mm", c.sphereRadiusMm},

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <sstream>
@@ -207,6 +208,12 @@ std::shared_ptr<const SweptTransfer> transferTable(
 }
 }  // namespace
 
+StrokeBuilder::StrokeBuilder(Sculpture& sculpture, ToolOp op, int level, MirrorAxis mirror,
+                             int lattice, const StrokeBuilder* coarse)
+    : mSculpture(sculpture), mOp(op), mLevel(level), mMirror(mirror), mCoarse(coarse) {
+    init(lattice);
+}
+
 StrokeBuilder::StrokeBuilder(Sculpture& sculpture, ToolOp op, int level, MirrorAxis mirror)
     : mSculpture(sculpture), mOp(op), mLevel(level), mMirror(mirror) {
     if (level < 1 || level > kLevelCount)
@@ -218,13 +225,19 @@ StrokeBuilder::StrokeBuilder(Sculpture& sculpture, ToolOp op, int level, MirrorA
     // Adds go there too: carves alone on a finer lattice, adds on the tool's, let adds and
     // carves alternating over one spot grow opposite weights on the two lattices without
     // bound (max |w| 97 after 400 strokes, measured).
-    mLattice = sculpture.config().placement == PlacementMode::Swept && op != ToolOp::Smooth
-                   ? std::max(1, level - sculpture.config().finerLatticeLevels)
-                   : level;
     if (op == ToolOp::Smooth && sculpture.config().placement == PlacementMode::Thesis)
         throw std::invalid_argument(
             "the smooth tool needs placement mode \"free\" or \"swept\" (thesis mode has unit "
             "weights only)");
+    init(sculpture.config().placement == PlacementMode::Swept && op != ToolOp::Smooth
+             ? std::max(1, level - sculpture.config().finerLatticeLevels)
+             : level);
+}
+
+void StrokeBuilder::init(int lattice) {
+    Sculpture& sculpture = mSculpture;
+    const ToolOp op = mOp;
+    mLattice = lattice;
     const ToolLevel& tl = sculpture.levels().level(mLattice);
     const int n = int(std::ceil(tl.supportMm / tl.spacingMm));
     const double r2 = tl.supportMm * tl.supportMm;
@@ -269,8 +282,20 @@ StrokeBuilder::StrokeBuilder(Sculpture& sculpture, ToolOp op, int level, MirrorA
 
 StrokeBuilder::~StrokeBuilder() = default;
 
+double StrokeBuilder::coarseChangeAt(const Vec3& pos, Vec3* gradient) const {
+    if (!mCoarse) return 0;
+    const HermiteFalloff& F = mSculpture.levels().falloff();
+    const double support = mSculpture.levels().level(mCoarse->mLattice).supportMm;
+    double change = 0;
+    mCoarse->forEachDeltaNear(pos, [&](double delta, const Vec3& d, double dist, double u) {
+        change += delta * F.value(u);
+        if (gradient && dist > 0) *gradient += delta * F.derivative(u) / support * (d / dist);
+    });
+    return change;
+}
+
 double StrokeBuilder::preStrokeRawSum(const LatticeCoord& v, const Vec3& pos) {
-    double raw = mProbe->rawSum(pos);
+    double raw = mProbe->rawSum(pos) - coarseChangeAt(pos);
     if (mDeltas.empty()) return raw;
     const ToolLevel& tl = mSculpture.levels().level(mLattice);
     const HermiteFalloff& F = mSculpture.levels().falloff();
@@ -301,7 +326,7 @@ void StrokeBuilder::forEachDeltaNear(const Vec3& pos, Fn&& visit) const {
 }
 
 double StrokeBuilder::preStrokeValueAt(const Vec3& pos) {
-    double raw = mProbe->rawSum(pos);
+    double raw = mProbe->rawSum(pos) - coarseChangeAt(pos);
     const HermiteFalloff& F = mSculpture.levels().falloff();
     forEachDeltaNear(
         pos, [&](double delta, const Vec3&, double, double u) { raw -= delta * F.value(u); });
@@ -311,6 +336,11 @@ double StrokeBuilder::preStrokeValueAt(const Vec3& pos) {
 FieldSample StrokeBuilder::preStrokeSampleAt(const Vec3& pos) {
     FieldSample s = mProbe->sample(pos);
     s.value += mSculpture.levels().iso();
+    if (mCoarse) {
+        Vec3 g(0.0);
+        s.value -= coarseChangeAt(pos, &g);
+        s.gradient -= g;
+    }
     const HermiteFalloff& F = mSculpture.levels().falloff();
     const double support = mSculpture.levels().level(mLattice).supportMm;
     forEachDeltaNear(pos, [&](double delta, const Vec3& d, double dist, double u) {
@@ -323,6 +353,11 @@ FieldSample StrokeBuilder::preStrokeSampleAt(const Vec3& pos) {
 FieldSample StrokeBuilder::preStrokeSample(const LatticeCoord& v, const Vec3& pos) {
     FieldSample s = mProbe->sample(pos);
     s.value += mSculpture.levels().iso();
+    if (mCoarse) {
+        Vec3 g(0.0);
+        s.value -= coarseChangeAt(pos, &g);
+        s.gradient -= g;
+    }
     if (mDeltas.empty()) return s;
     const ToolLevel& tl = mSculpture.levels().level(mLattice);
     const HermiteFalloff& F = mSculpture.levels().falloff();
@@ -374,7 +409,10 @@ EditResult StrokeBuilder::addSample(const Vec3& p) {
     // A sample sweeps the tool along the segment from the last one: a segment kilometres long
     // (a script's typo) would visit lattice vertices by the hundred million and exhaust memory
     // (a 2 km size-1 segment took 6.4 GB before failing). Refused before anything is placed.
-    const double spacings = glm::length(p - a) / mSculpture.levels().level(mLattice).spacingMm;
+    // (A refinement's samples are the stroke's own, checked on the tool's lattice.)
+    const double spacings =
+        glm::length(p - a) /
+        mSculpture.levels().level(mCoarse ? mCoarse->mLattice : mLattice).spacingMm;
     if (spacings > kMaxSegmentSpacings) {
         std::ostringstream msg;
         msg << "a stroke segment of " << glm::length(p - a) << " mm is more than one step can "
@@ -384,6 +422,7 @@ EditResult StrokeBuilder::addSample(const Vec3& p) {
         throw std::invalid_argument(msg.str());
     }
     mLast = p;
+    mPath.push_back(p);
     mFinished = false;
     if (mOp == ToolOp::Smooth) return addSmoothSample(a, p);
     return mSculpture.config().placement == PlacementMode::Swept ? addSampleSwept(a, p)
@@ -511,16 +550,21 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
             // add over it left 65 % of its change undone (12 % now).
             if ((phi - iso) * (t.phi - iso) < 0) phi = t.phi;
         }
-        if (mOp == ToolOp::Add) {
-            const double slope = std::max(t.grad, (iso - t.phi) / sMax);
-            const double c = std::clamp(iso - slope * s - (slope == t.grad ? phi : t.phi), 0.0,
-                                        std::max(0.0, iso + band - t.phi));
-            return std::abs(t.phi) > 1e-9 && c < kDeadBand * slope * tl.spacingMm ? 0.0 : c;
+        const bool add = mOp == ToolOp::Add;
+        const double slope = std::max(t.grad, (add ? iso - t.phi : t.phi - iso) / sMax);
+        const double from = slope == t.grad ? phi : t.phi;
+        const double want =
+            add ? std::clamp(iso - slope * s - from, 0.0, std::max(0.0, iso + band - t.phi))
+                : std::clamp(iso + slope * s - from, std::min(0.0, iso - band - t.phi), 0.0);
+        const double deadBand = kDeadBand * slope * tl.spacingMm;
+        // The refinement places what the coarse pass left between the target and its realised
+        // change, both ways, by the same dead band on its own lattice.
+        if (mCoarse) {
+            const double residual = want - coarseChangeAt(pos);
+            return std::abs(residual) < deadBand ? 0.0 : residual;
         }
-        const double slope = std::max(t.grad, (t.phi - iso) / sMax);
-        const double c = std::clamp(iso + slope * s - (slope == t.grad ? phi : t.phi),
-                                    std::min(0.0, iso - band - t.phi), 0.0);
-        return -c < kDeadBand * slope * tl.spacingMm ? 0.0 : c;
+        if (add) return std::abs(t.phi) > 1e-9 && want < deadBand ? 0.0 : want;
+        return -want < deadBand ? 0.0 : want;
     };
 
     // The path's closest point to a vertex: on either segment with a mirror plane (on a tie the
@@ -694,7 +738,11 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
     // Adding never lowers the field and carving never raises it: the deconvolution's negative
     // side lobes would otherwise notch the clay next to an added stroke (and raise it next to
     // a carve), and they add ripple.
+    // (The refinement's residual takes back as well as removes: it mends where the tool's
+    // lattice carved too deep as well as too shallow. Clamped, shallow carves on clay of
+    // strokes came out up to 1.52 of their depth.)
     auto clampToOp = [&](double w) {
+        if (mCoarse) return w;
         return mOp == ToolOp::Add ? std::max(w, 0.0) : std::min(w, 0.0);
     };
     std::vector<LatticeCoord> affected;  // vertices whose weight must be recomputed
@@ -734,7 +782,10 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
     // point lies within 2 radius + margin of the vertex. A carve in empty space has no
     // control points and no corrections. (A correction reads the base weights and shares
     // around it, never another correction, so the order does not matter.)
-    if (!touched.empty() && mAnyControl) {
+    // The refinement has no fit: its lattice holds the targets between the tool's vertices,
+    // and the fit's aims, met by the coarse pass already, were counted twice (grooves of 1.3-2.2
+    // their depth, measured).
+    if (!touched.empty() && mAnyControl && !mCoarse) {
         // The aim lies within 2 radius + margin of the vertex (the tool's extreme point, or
         // the old surface next to a carve, dropped beyond).
         const double aimReach = 2 * radius + margin;
@@ -802,7 +853,51 @@ std::vector<SkeletonChange> StrokeBuilder::takeChanges() {
     return std::move(mChanges);
 }
 
+bool StrokeBuilder::refines() const {
+    return mOp != ToolOp::Smooth && !mCoarse &&
+           mSculpture.config().placement == PlacementMode::Swept &&
+           mSculpture.config().refineLevels > 0 &&
+           std::max(1, mLattice - mSculpture.config().refineLevels) != mLattice && !mPath.empty();
+}
+
+void StrokeBuilder::startRefinement() {
+    mRefineStart = finishOnLattice();
+    mFine.reset(new StrokeBuilder(mSculpture, mOp, mLevel, mMirror,
+                                  std::max(1, mLattice - mSculpture.config().refineLevels), this));
+    // Every write waits for finish(): the samples only read (the store less the coarse pass),
+    // so they may run off the caller's thread, and the same bits come out either way.
+    mFine->holdBackChangesBelow(std::numeric_limits<double>::infinity());
+}
+
+void StrokeBuilder::sampleRefinement() {
+    for (const Vec3& p : mPath)
+        mFine->addSample(p);
+    mFineSampled = true;
+}
+
 EditResult StrokeBuilder::finish() {
+    if (mRefined || !refines()) return finishOnLattice();
+    if (!mFine) startRefinement();
+    if (!mFineSampled) sampleRefinement();
+    EditResult result = std::move(mRefineStart);
+    const EditResult fine = mFine->finish();
+    // The mesher re-meshes around each point within one support: the coarse lattice's covers
+    // the fine's.
+    result.changedRegion.expand(fine.changedRegion);
+    result.changedVertices += fine.changedVertices;
+    result.changedPoints.insert(result.changedPoints.end(), fine.changedPoints.begin(),
+                                fine.changedPoints.end());
+    result.supportMm = std::max(result.supportMm, fine.supportMm);
+    // Another lattice's vertices: they join the stroke's changes after the coarse ones, so
+    // undo (backwards) and redo (forwards) hold.
+    for (SkeletonChange& c : mFine->takeChanges())
+        mChanges.push_back(std::move(c));
+    mFine.reset();
+    mRefined = true;
+    return result;
+}
+
+EditResult StrokeBuilder::finishOnLattice() {
     EditResult result;
     // A swept add's end cap in empty space is fitted to the tool's ball now that it stays
     // where it is (addSampleSwept: during the stroke only the first sample's are).
@@ -1000,6 +1095,11 @@ void StrokeBuilder::previewSmoothedVolume(const std::vector<SkeletonChange>& sam
 }
 
 std::function<void()> StrokeBuilder::beginFinish() {
+    if (!mRefined && refines()) {
+        if (mFine) return {};
+        startRefinement();
+        return [this] { sampleRefinement(); };
+    }
     if (mOp != ToolOp::Smooth || mFinished || !mSculpture.config().smoothKeepsVolume ||
         mSmoothFinish != SmoothFinish::NotStarted)
         return {};

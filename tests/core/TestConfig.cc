@@ -171,6 +171,13 @@ TEST(Config, AStoredConfigWithoutTheSmoothVolumeKeyKeepsThePlainDiffusion) {
     EXPECT_FALSE(parseStoredConfig(old, "p/snapshot (stored config)").smoothKeepsVolume);
     EXPECT_FALSE(parseStoredConfig("{}", "p/snapshot (stored config)").smoothKeepsVolume);
     EXPECT_TRUE(parseConfig(old, "user.json").smoothKeepsVolume);
+    // The carve refinement came later still: off for projects without it, kept by those with.
+    EXPECT_EQ(parseStoredConfig(old, "p/snapshot (stored config)").refineLevels, 0);
+    for (int k : {0, 1, 2}) {
+        SculptConfig c;
+        c.refineLevels = k;
+        EXPECT_EQ(parseStoredConfig(configToJson(c), "stored").refineLevels, k);
+    }
     for (bool keep : {true, false}) {
         SculptConfig c;
         c.smoothKeepsVolume = keep;
@@ -341,6 +348,10 @@ TEST(Config, BadValuesNameTheKeyAndReason) {
          "initial_sphere.core_weight: the core alone gives"},
         {R"({"placement": {"finer_lattice_levels": 3}})",
          "placement.finer_lattice_levels: expected an integer 0..2, got 3"},
+        {R"({"placement": {"refine_levels": -1}})",
+         "placement.refine_levels: expected an integer 0..2, got -1"},
+        {R"({"placement": {"refine_levels": "2"}})",
+         "placement.refine_levels: expected an integer 0..2, got \"2\""},
         {R"({"placement": {"finer_lattice_levels": 1.5}})",
          "placement.finer_lattice_levels: expected an integer 0..2"},
         // Integers beyond int's range are refused, not wrapped (4294967296 used to read as 0).

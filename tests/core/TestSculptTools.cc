@@ -117,6 +117,25 @@ TEST(Mirror, EveryPlacementModeKeepsTheSymmetry) {
     }
 }
 
+TEST(Mirror, RefinedStrokesKeepTheSymmetry) {
+    // placement.refine_levels: the refinement's lattice is symmetric about the planes too,
+    // and it places the mirrored residual with the stroke's.
+    SculptConfig cfg;
+    cfg.refineLevels = 2;
+    Sculpture s(cfg);
+    std::vector<SkeletonChange> changes;
+    applyStroke(s, ToolOp::Add, 5, path({{18, -30, 22}, {30, -18, 30}, {36, 4, 26}}), &changes,
+                MirrorAxis::X);
+    applyStroke(s, ToolOp::Carve, 4, path({{-12, -41, 6}, {3, -42, 9}, {14, -41, 12}}), &changes,
+                MirrorAxis::X);
+    EXPECT_LE(mirrorDefect(s, MirrorAxis::X), 1e-6);
+    int fine[2] = {0, 0};  // the add's (level 3) and the carve's (level 2)
+    for (const SkeletonChange& c : changes)
+        if (c.level == 3 || c.level == 2) ++fine[c.level == 2];
+    EXPECT_GT(fine[0], 0) << "the add was not refined";
+    EXPECT_GT(fine[1], 0) << "the carve was not refined";
+}
+
 // A mirrored stroke beside the plane is the stroke and its image, not a trench or ridge
 // joining them (found by QA: two eye sockets 16 mm apart, mirrored, joined across the nose
 // 5.7 mm deep where two separate strokes left 1.8 mm: a vertex on the plane aimed at the

@@ -227,3 +227,66 @@ TEST(AsyncStrokeFinish, StrokesWithNothingToEstimateCompleteAtOnce) {
     EXPECT_FALSE(s.strokeFinishing());
     EXPECT_EQ(s.history().done().back().op, core::ToolOp::Smooth);
 }
+
+// placement.refine_levels: an add's or carve's refinement is its pen-lift work, run off the
+// frame the same way (core: StrokeBuilder::beginFinish). The same clay, steps and journal as
+// finishing at once; a project reopened with a config without the setting keeps its own.
+TEST(AsyncStrokeFinish, RefinedStrokesCompleteOffTheFrameToTheSameClayAndJournal) {
+    const char* kStrokes = R"(zoom 3 28 -20 16
+size 4
+tool add
+stroke 30 -20 20 33 -14 19 36 -8 18
+tool carve
+stroke 20 -30 18 27 -25 16 34 -18 12
+)";
+    core::SculptConfig cfg = smallConfig();
+    cfg.refineLevels = 2;
+    const std::filesystem::path syncDir = tempProject("refine-sync"),
+                                asyncDir = tempProject("refine-async");
+    Weights start, expected;
+    std::vector<core::StrokeRecord> expectedSteps;
+    {
+        auto s = Session::openProject(syncDir, cfg);
+        start = weightsOf(s->sculpture());
+        play(*s, kStrokes);
+        expected = weightsOf(s->sculpture());
+        for (const core::StrokeRecord& r : s->history().done())
+            expectedSteps.push_back(r);
+    }
+    ASSERT_EQ(expectedSteps.size(), 2u);
+    for (const core::StrokeRecord& r : expectedSteps) {
+        int fine = 0;
+        for (const core::SkeletonChange& c : r.changes)
+            fine += c.level == r.level - 2;
+        EXPECT_GT(fine, 0) << core::toString(r.op) << " not refined";
+    }
+    {
+        auto s = Session::openProject(asyncDir, cfg);
+        s->setAsyncMeshing(true);
+        s->setAsyncStrokeFinish(true);
+        play(*s, "zoom 3 28 -20 16\nsize 4\ntool add\nstroke 30 -20 20 33 -14 19 36 -8 18\n");
+        EXPECT_TRUE(s->strokeFinishing());  // the refinement runs on its own thread
+        EXPECT_EQ(s->history().done().size(), 0u);
+        play(*s, "tool carve\nstroke 20 -30 18 27 -25 16 34 -18 12\n");  // waits for the add
+        ASSERT_EQ(s->history().done().size(), 1u);
+        EXPECT_TRUE(s->pollStrokeFinish(true));
+        EXPECT_EQ(weightsOf(s->sculpture()), expected);
+        ASSERT_EQ(s->history().done().size(), expectedSteps.size());
+        for (size_t i = 0; i < expectedSteps.size(); ++i)
+            expectSameChanges(s->history().done()[i].changes, expectedSteps[i].changes);
+        s->waitForMesh();
+        EXPECT_EQ(s->verifyMesh(), "");
+        ASSERT_TRUE(s->undo());
+        ASSERT_TRUE(s->undo());
+        EXPECT_EQ(weightsOf(s->sculpture()), start);
+        ASSERT_TRUE(s->redo());
+        ASSERT_TRUE(s->redo());
+    }
+    for (const auto& dir : {syncDir, asyncDir}) {
+        auto s = Session::openProject(dir, smallConfig());
+        EXPECT_EQ(s->sculpture().config().refineLevels, 2) << dir;
+        EXPECT_EQ(weightsOf(s->sculpture()), expected) << dir;
+    }
+    std::filesystem::remove_all(syncDir);
+    std::filesystem::remove_all(asyncDir);
+}

@@ -112,6 +112,9 @@ class StrokeBuilder {
     /// one thread while the sculpture is only read (its store neither set nor erased) and this
     /// builder is not called. Then finish() writes the corrected weights on the caller's
     /// thread. The result is the same bits as finish() alone.
+    /// An add or carve with placement.refine_levels: beginFinish() completes the stroke on
+    /// its own lattice and hands out the refinement's samples (they only read), and finish()
+    /// writes what they decided (docs/placement.md "Refining strokes").
     std::function<void()> beginFinish();
 
     /// Every vertex change so far, one per vertex (before: the state before the stroke,
@@ -131,6 +134,22 @@ class StrokeBuilder {
     const VolumeKeepingShift& volumeShift() const { return mLastVolumeShift; }
 
   private:
+    /// The refinement's builder (finish()): weights on `lattice`, the residual against
+    /// `coarse`'s realised change.
+    StrokeBuilder(Sculpture& sculpture, ToolOp op, int level, MirrorAxis mirror, int lattice,
+                  const StrokeBuilder* coarse);
+    void init(int lattice);
+    /// Whether finish() refines this stroke (placement.refine_levels).
+    bool refines() const;
+    /// The refinement in three parts: the stroke completed on its own lattice and the fine
+    /// builder made; the fine builder's samples (reads only); finish() writes.
+    void startRefinement();
+    void sampleRefinement();
+    /// finish() on this builder's own lattice.
+    EditResult finishOnLattice();
+    /// The change this stroke's coarse pass realised at `pos` (refinement only), and its
+    /// gradient added to `gradient` when given.
+    double coarseChangeAt(const Vec3& pos, Vec3* gradient = nullptr) const;
     double preStrokeRawSum(const LatticeCoord& v, const Vec3& pos);
     /// The same at any point (not only at a vertex of the tool's lattice).
     FieldSample preStrokeSampleAt(const Vec3& pos);
@@ -166,6 +185,12 @@ class StrokeBuilder {
     int mLattice;  // the level whose lattice the weights are placed on (swept: may be finer)
     MirrorAxis mMirror;
     std::optional<Vec3> mLast;
+    std::vector<Vec3> mPath;                 // every sample, for the refinement
+    const StrokeBuilder* mCoarse = nullptr;  // refinement: the pass whose residual it places
+    std::unique_ptr<StrokeBuilder> mFine;    // a refined stroke's refinement, during finish
+    bool mFineSampled = false;               // its samples are in
+    bool mRefined = false;                   // finish() has written the refinement
+    EditResult mRefineStart;                 // what completing the coarse pass changed
     struct Visit {
         std::optional<float> preStroke;  // the vertex's state before this stroke
         double lateral;                  // closest approach of the stroke so far, mm

@@ -1045,9 +1045,11 @@ BENCHMARK(BM_Memory)
 // 11.1 ms frame as Rig::pollBackgroundWork does). async:0 is endStroke() completing the
 // stroke itself (the estimate on the frame), as before stop 43. Medians over the iterations;
 // each is undone (waiting for nothing) before the next.
-void BM_SmoothPenLift(benchmark::State& state) {
+void penLift(benchmark::State& state, vsculpt::studio::ToolKind tool, int refineLevels) {
     const bool async = state.range(0) != 0;
-    vsculpt::studio::Session s{SculptConfig{}};
+    SculptConfig cfg;
+    cfg.refineLevels = refineLevels;
+    vsculpt::studio::Session s{cfg};
     s.setAsyncMeshing(true);
     s.setAsyncStrokeFinish(async);
     s.setZoom(3, Vec3(54, 0, 0));
@@ -1063,13 +1065,15 @@ void BM_SmoothPenLift(benchmark::State& state) {
     }
     s.setZoom(4, Vec3(54, 0, 0));
     s.setSize(4);
-    s.setTool(vsculpt::studio::ToolKind::Smooth);
+    s.setTool(tool);
     const double spacing = 0.25 * s.sculpture().levels().level(4).diameterMm;
+    // A smooth runs along the arm's flank; a carve cuts 3 mm into its side (60 % of its radius).
+    const double y = tool == vsculpt::studio::ToolKind::Smooth ? 3.4 : 5.3;
     std::vector<double> lift, complete, toStep;
     for (auto _ : state) {
         s.beginStroke();
         for (double x = 40; x <= 68; x += spacing)
-            s.strokeSample(Vec3(x, 3.4, 0), false);
+            s.strokeSample(Vec3(x, y, 0), false);
         const auto t0 = Clock::now();
         s.endStroke();
         const auto t1 = Clock::now();
@@ -1102,10 +1106,29 @@ void BM_SmoothPenLift(benchmark::State& state) {
     state.counters["complete_max_ms"] = quantile(complete, 1.0);
     state.counters["lift_to_step_ms"] = quantile(toStep, 0.5);
 }
+
+void BM_SmoothPenLift(benchmark::State& state) {
+    penLift(state, vsculpt::studio::ToolKind::Smooth, 0);
+}
 BENCHMARK(BM_SmoothPenLift)
     ->ArgName("async")
     ->Arg(0)
     ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(10)
+    ->UseRealTime();
+
+// The same for a size-4 carve along the top of the arm with placement.refine_levels (docs/
+// placement.md "Refining strokes"): its refinement is the pen lift's work. refine:0 is the
+// carve without it.
+void BM_RefinedCarvePenLift(benchmark::State& state) {
+    penLift(state, vsculpt::studio::ToolKind::Carve, int(state.range(1)));
+}
+BENCHMARK(BM_RefinedCarvePenLift)
+    ->ArgNames({"async", "refine"})
+    ->Args({0, 0})
+    ->Args({0, 2})
+    ->Args({1, 2})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(10)
     ->UseRealTime();

@@ -132,6 +132,8 @@ std::unique_ptr<Sculpture> makeClay() {
     // = k, as a project at that setting would build it (docs/placement.md "Finer lattices").
     if (const char* e = std::getenv("VSCULPT_CLAY_FINER_LEVELS"))
         cfg.finerLatticeLevels = std::atoi(e);
+    // VSCULPT_CLAY_REFINE_LEVELS=k: built with placement.refine_levels = k ("Refining strokes").
+    if (const char* e = std::getenv("VSCULPT_CLAY_REFINE_LEVELS")) cfg.refineLevels = std::atoi(e);
     auto s = std::make_unique<Sculpture>(cfg);
     int i = 0;
     for (double z : {-16.0, -8.0, 0.0, 8.0})

@@ -189,3 +189,22 @@ TEST(DeconvolutionStencil, AddsAndCarvesAlternatingOnAFinerLatticeKeepTheWeights
     EXPECT_GT(r.lo, -1.0);
     EXPECT_LT(r.hi, 1.0);
 }
+
+// placement.refine_levels = 2 (docs/placement.md "Refining strokes"): each stroke also leaves
+// a two-sided residual two levels down, which the next stroke reads as clay; adds and carves
+// alternating over one spot must not grow it without bound.
+TEST(DeconvolutionStencil, AddsAndCarvesAlternatingWithRefinementKeepTheWeightsBounded) {
+    SculptConfig cfg;
+    cfg.refineLevels = 2;
+    Sculpture s(cfg);
+    const char* n = std::getenv("VSCULPT_SCRUB_STROKES");  // longer runs by hand
+    const Scrubbed r = scrubOneSpot(s, n ? std::atoi(n) : 160);
+    std::printf("max |w| %.3g, field %.3g .. %.3g, levels", r.maxWeight, r.lo, r.hi);
+    for (int l : r.levels)
+        std::printf(" %d", l);
+    std::printf("\n");
+    EXPECT_EQ(r.levels, (std::set<int>{3, 5}));  // the tool's and two below
+    EXPECT_LT(r.maxWeight, 1.0);
+    EXPECT_GT(r.lo, -1.0);
+    EXPECT_LT(r.hi, 1.0);
+}

@@ -235,10 +235,9 @@ struct SculptConfig {
     /// Swept mode, experimental: an add or carve ends by placing, on the lattice this many
     /// levels below its own (0..2, never below level 1), the residual between its target
     /// change and what its own lattice realised (docs/placement.md "Refining strokes"). At 2
-    /// shallow carves on clay of strokes follow the tool (sizes 1-6 at 20 %: 0.86..1.15 of
-    /// their depth, 0.49..1.45 at 0) and a worked detail's strokes spill half as far, but
-    /// the worked detail keeps enclosed voids the default does not make. Off by default;
-    /// projects keep the value they were made with.
+    /// a worked detail's strokes spill a third as far beyond the tool, but worked clay keeps
+    /// enclosed voids the default does not make and the weights grow under scrubbing. Off by
+    /// default; projects keep the value they were made with.
     int refineLevels = 0;
     /// Free and swept modes: a smooth stroke ends by giving back, under the tool, the volume
     /// its diffusion took or added (each changed weight moves by delta |its change|, one delta

@@ -561,21 +561,25 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
             add ? std::clamp(iso - slope * s - from, 0.0, std::max(0.0, iso + band - t.phi))
                 : std::clamp(iso + slope * s - from, std::min(0.0, iso - band - t.phi), 0.0);
         const double deadBand = kDeadBand * slope * tl.spacingMm;
+        // Outside the tool material stays material (a carve) and empty space stays empty (an
+        // add): the field moves at most as the flat-field rule moves it, (phi - c) s / sMax
+        // towards c (the refinement's bound, below).
+        auto sided = [&](double w) {
+            if (s > 0 && !add && t.phi > iso)
+                return std::max(w, -(t.phi - iso) * (1 - std::min(1.0, s / sMax)));
+            if (s > 0 && add && t.phi < iso)
+                return std::min(w, (iso - t.phi) * (1 - std::min(1.0, s / sMax)));
+            return w;
+        };
         // The refinement places what the coarse pass left between the target and its realised
         // change, both ways, by the same dead band on its own lattice.
         if (mCoarse) {
-            // Outside the tool material stays material (a carve) and empty space stays empty
-            // (an add): the field moves at most as the flat-field rule moves it, (phi - c)
-            // s / sMax towards c. The clay's fine residuals leave fields that are steep under
-            // the surface and flat beneath, where a stroke's change reaching past the tool
-            // opened pockets inside the clay (the worked detail's first 30 strokes: enclosed
-            // voids of up to 82 mm3 without this, 14 with it).
-            double bounded = want;
-            if (s > 0 && !add && t.phi > iso)
-                bounded = std::max(want, -(t.phi - iso) * (1 - std::min(1.0, s / sMax)));
-            if (s > 0 && add && t.phi < iso)
-                bounded = std::min(want, (iso - t.phi) * (1 - std::min(1.0, s / sMax)));
-            const double residual = bounded - coarseChangeAt(pos);
+            // Bounded to the tool's side: the clay's fine residuals leave fields that are steep
+            // under the surface and flat beneath, where a stroke's change reaching past the
+            // tool opened pockets inside the clay (the worked detail's first 30 strokes:
+            // enclosed voids of up to 82 mm3 without the bound, 14 with it; the same bound on
+            // the tool's pass too changed nothing, 14.3).
+            const double residual = sided(want) - coarseChangeAt(pos);
             return std::abs(residual) < deadBand ? 0.0 : residual;
         }
         if (add) return std::abs(t.phi) > 1e-9 && want < deadBand ? 0.0 : want;

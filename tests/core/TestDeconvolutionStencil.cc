@@ -124,6 +124,14 @@ Scrubbed scrubOneSpot(Sculpture& s, int strokes) {
     return r;
 }
 
+// The same in a new sculpture of `cfg`, for 160 strokes or VSCULPT_SCRUB_STROKES (longer runs
+// by hand).
+Scrubbed scrubOneSpotWith(const SculptConfig& cfg) {
+    Sculpture s(cfg);
+    const char* n = std::getenv("VSCULPT_SCRUB_STROKES");
+    return scrubOneSpot(s, n ? std::atoi(n) : 160);
+}
+
 // With the plain stencil the weights grew without bound (240 strokes: max |w| 1.5e3, the field
 // +-300 around a 0.5 iso value; measured before the fix); they must stay of the order of one
 // stroke's.
@@ -180,9 +188,7 @@ TEST(DeconvolutionStencil, PrintPileGrowth) {
 TEST(DeconvolutionStencil, AddsAndCarvesAlternatingOnAFinerLatticeKeepTheWeightsBounded) {
     SculptConfig cfg;
     cfg.finerLatticeLevels = 2;
-    Sculpture s(cfg);
-    const char* n = std::getenv("VSCULPT_SCRUB_STROKES");  // longer runs by hand
-    const Scrubbed r = scrubOneSpot(s, n ? std::atoi(n) : 160);
+    const Scrubbed r = scrubOneSpotWith(cfg);
     EXPECT_EQ(r.levels, std::set<int>{3});  // every weight two levels below the tool's 5
     EXPECT_LT(r.maxWeight, 1.0);            // measured 0.28 (1.30 after 400 strokes)
     // Measured -0.07 .. 0.06 (-0.69 .. 0.32 after 400 strokes).
@@ -196,13 +202,7 @@ TEST(DeconvolutionStencil, AddsAndCarvesAlternatingOnAFinerLatticeKeepTheWeights
 TEST(DeconvolutionStencil, AddsAndCarvesAlternatingWithRefinementKeepTheWeightsBounded) {
     SculptConfig cfg;
     cfg.refineLevels = 2;
-    Sculpture s(cfg);
-    const char* n = std::getenv("VSCULPT_SCRUB_STROKES");  // longer runs by hand
-    const Scrubbed r = scrubOneSpot(s, n ? std::atoi(n) : 160);
-    std::printf("max |w| %.3g, field %.3g .. %.3g, levels", r.maxWeight, r.lo, r.hi);
-    for (int l : r.levels)
-        std::printf(" %d", l);
-    std::printf("\n");
+    const Scrubbed r = scrubOneSpotWith(cfg);
     EXPECT_EQ(r.levels, (std::set<int>{3, 5}));  // the tool's and two below
     // Measured 0.68, the field -0.15 .. 0.18 (2.08 and -0.46 .. 0.18 after 400 strokes: it
     // still grows, docs/placement.md "Refining strokes").

@@ -71,6 +71,18 @@ void expectSameChanges(const std::vector<core::SkeletonChange>& a,
     }
 }
 
+// The session ends as the reference did: the same weights, the same steps with the same
+// changes, and a mesh that matches a full rebuild.
+void expectSameAs(Session& s, const Weights& expected,
+                  const std::vector<core::StrokeRecord>& steps) {
+    EXPECT_EQ(weightsOf(s.sculpture()), expected);
+    ASSERT_EQ(s.history().done().size(), steps.size());
+    for (size_t i = 0; i < steps.size(); ++i)
+        expectSameChanges(s.history().done()[i].changes, steps[i].changes);
+    s.waitForMesh();
+    EXPECT_EQ(s.verifyMesh(), "");
+}
+
 }  // namespace
 
 TEST(AsyncStrokeFinish, GivesTheSameClayHistoryAndJournalAsFinishingAtOnce) {
@@ -107,12 +119,7 @@ TEST(AsyncStrokeFinish, GivesTheSameClayHistoryAndJournalAsFinishingAtOnce) {
         EXPECT_TRUE(s->pollStrokeFinish(true));
         EXPECT_FALSE(s->strokeFinishing());
         EXPECT_FALSE(s->pollStrokeFinish(true));  // nothing left
-        EXPECT_EQ(weightsOf(s->sculpture()), expected);
-        ASSERT_EQ(s->history().done().size(), expectedSteps.size());
-        for (size_t i = 0; i < expectedSteps.size(); ++i)
-            expectSameChanges(s->history().done()[i].changes, expectedSteps[i].changes);
-        s->waitForMesh();
-        EXPECT_EQ(s->verifyMesh(), "");
+        expectSameAs(*s, expected, expectedSteps);
     }
     // Not saved: each journal alone replays to the same clay.
     for (const auto& dir : {syncDir, asyncDir}) {
@@ -270,12 +277,7 @@ stroke 20 -30 18 27 -25 16 34 -18 12
         play(*s, "tool carve\nstroke 20 -30 18 27 -25 16 34 -18 12\n");  // waits for the add
         ASSERT_EQ(s->history().done().size(), 1u);
         EXPECT_TRUE(s->pollStrokeFinish(true));
-        EXPECT_EQ(weightsOf(s->sculpture()), expected);
-        ASSERT_EQ(s->history().done().size(), expectedSteps.size());
-        for (size_t i = 0; i < expectedSteps.size(); ++i)
-            expectSameChanges(s->history().done()[i].changes, expectedSteps[i].changes);
-        s->waitForMesh();
-        EXPECT_EQ(s->verifyMesh(), "");
+        expectSameAs(*s, expected, expectedSteps);
         ASSERT_TRUE(s->undo());
         ASSERT_TRUE(s->undo());
         EXPECT_EQ(weightsOf(s->sculpture()), start);

@@ -872,17 +872,19 @@ std::vector<SkeletonChange> StrokeBuilder::takeChanges() {
     return std::move(mChanges);
 }
 
+int StrokeBuilder::refineLattice() const {
+    return std::max(1, mLattice - mSculpture.config().refineLevels);
+}
+
 bool StrokeBuilder::refines() const {
     return mOp != ToolOp::Smooth && !mCoarse &&
-           mSculpture.config().placement == PlacementMode::Swept &&
-           mSculpture.config().refineLevels > 0 &&
-           std::max(1, mLattice - mSculpture.config().refineLevels) != mLattice && !mPath.empty();
+           mSculpture.config().placement == PlacementMode::Swept && refineLattice() != mLattice &&
+           !mPath.empty();
 }
 
 void StrokeBuilder::startRefinement() {
     mRefineStart = finishOnLattice();
-    mFine.reset(new StrokeBuilder(mSculpture, mOp, mLevel, mMirror,
-                                  std::max(1, mLattice - mSculpture.config().refineLevels), this));
+    mFine.reset(new StrokeBuilder(mSculpture, mOp, mLevel, mMirror, refineLattice(), this));
     // Every write waits for finish(): the samples only read (the store less the coarse pass),
     // so they may run off the caller's thread, and the same bits come out either way.
     mFine->holdBackChangesBelow(std::numeric_limits<double>::infinity());

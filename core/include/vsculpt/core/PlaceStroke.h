@@ -139,7 +139,9 @@ class StrokeBuilder {
     StrokeBuilder(Sculpture& sculpture, ToolOp op, int level, MirrorAxis mirror, int lattice,
                   const StrokeBuilder* coarse);
     void init(int lattice);
-    /// Whether finish() refines this stroke (placement.refine_levels).
+    /// The lattice the refinement places on (placement.refine_levels below this one's, never
+    /// below level 1), and whether finish() refines this stroke (it is a finer one).
+    int refineLattice() const;
     bool refines() const;
     /// The refinement in three parts: the stroke completed on its own lattice and the fine
     /// builder made; the fine builder's samples (reads only); finish() writes.

@@ -292,7 +292,9 @@ TEST(Playback, PrintEnclosedVoidsOfAWorkedDetailAgainstExactCsg) {
             for (int k = 0; k < kN; ++k)
                 exact[index(i, j, k)] = glm::length(at(i, j, k)) < cfg.sphereRadiusMm;
     // The count and the largest volume of the empty regions that do not reach the grid's side.
-    const auto voids = [&](const std::vector<char>& solid) {
+    const bool detail = std::getenv("VSCULPT_VOID_DETAIL") != nullptr;
+    const auto voids = [&](const std::vector<char>& solid,
+                           std::vector<std::vector<size_t>>* regions) {
         std::vector<char> seen(solid.size());
         std::vector<std::array<int, 3>> stack;
         int count = 0;
@@ -303,12 +305,14 @@ TEST(Playback, PrintEnclosedVoidsOfAWorkedDetailAgainstExactCsg) {
                     if (solid[index(i, j, k)] || seen[index(i, j, k)]) continue;
                     bool open = false;
                     size_t cells = 0;
+                    std::vector<size_t> region;
                     seen[index(i, j, k)] = 1;
                     stack.push_back({i, j, k});
                     while (!stack.empty()) {
                         const auto c = stack.back();
                         stack.pop_back();
                         ++cells;
+                        if (regions) region.push_back(index(c[0], c[1], c[2]));
                         for (int axis = 0; axis < 3; ++axis)
                             for (int d : {-1, 1}) {
                                 auto nb = c;
@@ -326,6 +330,7 @@ TEST(Playback, PrintEnclosedVoidsOfAWorkedDetailAgainstExactCsg) {
                     if (open) continue;
                     ++count;
                     largest = std::max(largest, double(cells) * step * step * step);
+                    if (regions) regions->push_back(std::move(region));
                 }
         char buf[64];
         std::snprintf(buf, sizeof buf, "%3d (largest %6.1f mm3)", count, largest);
@@ -333,6 +338,7 @@ TEST(Playback, PrintEnclosedVoidsOfAWorkedDetailAgainstExactCsg) {
     };
     bool add = true;
     int level = 4, done = 0;
+    std::vector<float> previous;
     for (const ScriptCommand& c : script.commands) {
         if (done == strokes) break;
         if (c.kind == ScriptCommand::Kind::Tool) add = c.tool == ToolKind::Add;
@@ -341,20 +347,48 @@ TEST(Playback, PrintEnclosedVoidsOfAWorkedDetailAgainstExactCsg) {
         if (c.kind != ScriptCommand::Kind::Stroke) continue;
         ++done;
         const double rho = 0.5 * s.sculpture().levels().level(level).diameterMm;
+        const auto fromPath = [&](const core::Vec3& p) {
+            double d = glm::length(p - c.points[0]);
+            for (size_t q = 1; q < c.points.size(); ++q)
+                d = std::min(d, core::distanceToSegment(p, c.points[q - 1], c.points[q]));
+            return d;
+        };
         std::vector<char> clay(exact.size());
+        std::vector<float> value(exact.size());
         core::FieldProbe probe(s.sculpture());
         for (int i = 0; i < kN; ++i)
             for (int j = 0; j < kN; ++j)
                 for (int k = 0; k < kN; ++k) {
                     const core::Vec3 p = at(i, j, k);
-                    double d = glm::length(p - c.points[0]);
-                    for (size_t q = 1; q < c.points.size(); ++q)
-                        d = std::min(d, core::distanceToSegment(p, c.points[q - 1], c.points[q]));
-                    if (d < rho) exact[index(i, j, k)] = add;
-                    clay[index(i, j, k)] = probe.value(p) > 0;
+                    if (fromPath(p) < rho) exact[index(i, j, k)] = add;
+                    value[index(i, j, k)] = float(probe.value(p));
+                    clay[index(i, j, k)] = value[index(i, j, k)] > 0;
                 }
+        // With VSCULPT_VOID_DETAIL each void of the clay: where it starts (its first cell in
+        // x, y, z order), the field there before and after the stroke, how many of its cells
+        // the exact sequence keeps solid (few: a cavity the strokes carved whose mouth the clay
+        // closed; most: a pocket opened inside material), and its lowest field.
+        std::vector<std::vector<size_t>> regions;
         std::printf("stroke %3d %-5s size %d: voids exact %s, clay %s\n", done,
-                    add ? "add" : "carve", level, voids(exact).c_str(), voids(clay).c_str());
+                    add ? "add" : "carve", level, voids(exact, nullptr).c_str(),
+                    voids(clay, detail ? &regions : nullptr).c_str());
+        for (const auto& region : regions) {
+            const size_t f = region.front();
+            float lowest = 0;
+            size_t solidInExact = 0;
+            for (size_t r : region) {
+                lowest = std::min(lowest, value[r]);
+                solidInExact += exact[r] ? 1 : 0;
+            }
+            const int i = int(f / (kN * kN)), j = int(f / kN % kN), k = int(f % kN);
+            const core::Vec3 p = at(i, j, k);
+            std::printf(
+                "    void from (%.1f, %.1f, %.1f): field %.4f before, %.4f after, "
+                "%.1f rho from the path; %zu cells (%zu solid in the exact), lowest %.4f\n",
+                p.x, p.y, p.z, previous.empty() ? 0.0 : previous[f], value[f], fromPath(p) / rho,
+                region.size(), solidInExact, lowest);
+        }
+        previous = std::move(value);
         std::fflush(stdout);
     }
 }

@@ -291,10 +291,11 @@ TEST(Playback, PrintEnclosedVoidsOfAWorkedDetailAgainstExactCsg) {
         for (int j = 0; j < kN; ++j)
             for (int k = 0; k < kN; ++k)
                 exact[index(i, j, k)] = glm::length(at(i, j, k)) < cfg.sphereRadiusMm;
-    // The count and the largest volume of the empty regions that do not reach the grid's side.
+    // The count and the largest volume of the regions of cells that are `of` (0: empty, 1:
+    // solid) that do not reach the grid's side: the voids, and the floating pieces.
     const bool detail = std::getenv("VSCULPT_VOID_DETAIL") != nullptr;
-    const auto voids = [&](const std::vector<char>& solid,
-                           std::vector<std::vector<size_t>>* regions) {
+    const auto enclosed = [&](const std::vector<char>& solid, char of,
+                              std::vector<std::vector<size_t>>* regions) {
         std::vector<char> seen(solid.size());
         std::vector<std::array<int, 3>> stack;
         int count = 0;
@@ -302,7 +303,7 @@ TEST(Playback, PrintEnclosedVoidsOfAWorkedDetailAgainstExactCsg) {
         for (int i = 0; i < kN; ++i)
             for (int j = 0; j < kN; ++j)
                 for (int k = 0; k < kN; ++k) {
-                    if (solid[index(i, j, k)] || seen[index(i, j, k)]) continue;
+                    if (solid[index(i, j, k)] != of || seen[index(i, j, k)]) continue;
                     bool open = false;
                     size_t cells = 0;
                     std::vector<size_t> region;
@@ -322,7 +323,7 @@ TEST(Playback, PrintEnclosedVoidsOfAWorkedDetailAgainstExactCsg) {
                                     continue;
                                 }
                                 const size_t id = index(nb[0], nb[1], nb[2]);
-                                if (solid[id] || seen[id]) continue;
+                                if (solid[id] != of || seen[id]) continue;
                                 seen[id] = 1;
                                 stack.push_back(nb);
                             }
@@ -369,9 +370,21 @@ TEST(Playback, PrintEnclosedVoidsOfAWorkedDetailAgainstExactCsg) {
         // the exact sequence keeps solid (few: a cavity the strokes carved whose mouth the clay
         // closed; most: a pocket opened inside material), and its lowest field.
         std::vector<std::vector<size_t>> regions;
-        std::printf("stroke %3d %-5s size %d: voids exact %s, clay %s\n", done,
-                    add ? "add" : "carve", level, voids(exact, nullptr).c_str(),
-                    voids(clay, detail ? &regions : nullptr).c_str());
+        // And how far the clay is from the exact sequence: the volume only the exact has (the
+        // clay missed it) and only the clay has (it spilled), over the grid.
+        size_t exactOnly = 0, clayOnly = 0;
+        for (size_t id = 0; id < exact.size(); ++id) {
+            exactOnly += exact[id] && !clay[id] ? 1 : 0;
+            clayOnly += clay[id] && !exact[id] ? 1 : 0;
+        }
+        const double cell = step * step * step;
+        std::printf(
+            "stroke %3d %-5s size %d: voids exact %s, clay %s; pieces exact %s, clay %s; "
+            "only exact %.0f mm3, only clay %.0f mm3\n",
+            done, add ? "add" : "carve", level, enclosed(exact, 0, nullptr).c_str(),
+            enclosed(clay, 0, detail ? &regions : nullptr).c_str(),
+            enclosed(exact, 1, nullptr).c_str(), enclosed(clay, 1, nullptr).c_str(),
+            double(exactOnly) * cell, double(clayOnly) * cell);
         for (const auto& region : regions) {
             const size_t f = region.front();
             float lowest = 0;
@@ -390,5 +403,39 @@ TEST(Playback, PrintEnclosedVoidsOfAWorkedDetailAgainstExactCsg) {
         }
         previous = std::move(value);
         std::fflush(stdout);
+        // With VSCULPT_VOID_SLICES=DIR, after the last stroke: three slices across the nose
+        // (x-z planes at y -44, -42, -40), as PPM images, 4 pixels a cell: grey where both are
+        // solid, red where only the exact sequence is (the clay missed it), blue where only the
+        // clay is (it spilled), white where both are empty.
+        const char* slices = std::getenv("VSCULPT_VOID_SLICES");
+        if (!slices || done != strokes) continue;
+        for (int j : {30, 35, 40}) {
+            const std::filesystem::path out =
+                std::filesystem::path(slices) /
+                ("slice_y" + std::to_string(int(at(0, j, 0).y)) + ".ppm");
+            std::FILE* f = std::fopen(out.string().c_str(), "wb");
+            ASSERT_NE(f, nullptr) << out;
+            constexpr int kScale = 4;
+            std::fprintf(f, "P6 %d %d 255\n", kN * kScale, kN * kScale);
+            for (int row = kN * kScale - 1; row >= 0; --row)
+                for (int col = 0; col < kN * kScale; ++col) {
+                    const size_t id = index(col / kScale, j, row / kScale);
+                    const bool e = exact[id], m = clay[id];
+                    const unsigned char rgb[3] = {static_cast<unsigned char>(e && m ? 160
+                                                                             : e    ? 220
+                                                                             : m    ? 40
+                                                                                    : 255),
+                                                  static_cast<unsigned char>(e && m ? 160
+                                                                             : e    ? 40
+                                                                             : m    ? 80
+                                                                                    : 255),
+                                                  static_cast<unsigned char>(e && m ? 160
+                                                                             : e    ? 40
+                                                                             : m    ? 220
+                                                                                    : 255)};
+                    std::fwrite(rgb, 1, 3, f);
+                }
+            std::fclose(f);
+        }
     }
 }

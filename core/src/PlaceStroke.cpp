@@ -873,13 +873,16 @@ std::vector<SkeletonChange> StrokeBuilder::takeChanges() {
 }
 
 int StrokeBuilder::refineLattice() const {
-    return std::max(1, mLattice - mSculpture.config().refineLevels);
+    return mLattice - mSculpture.config().refineLevels;
 }
 
 bool StrokeBuilder::refines() const {
+    // All k levels or none: a refinement fewer levels down than asked is worse than none
+    // (size 2 at k = 2, refined on level 1 only: 20 % carves on the sphere 0.78 of their depth,
+    // 0.95 unrefined; chains of size-1/2 spines came apart in two pieces).
     return mOp != ToolOp::Smooth && !mCoarse &&
-           mSculpture.config().placement == PlacementMode::Swept && refineLattice() != mLattice &&
-           !mPath.empty();
+           mSculpture.config().placement == PlacementMode::Swept &&
+           mSculpture.config().refineLevels > 0 && refineLattice() >= 1 && !mPath.empty();
 }
 
 void StrokeBuilder::startRefinement() {

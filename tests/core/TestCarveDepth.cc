@@ -864,9 +864,10 @@ Forest spineForest(unsigned seed) {
 // Chains of thin spines: each starts 0.4 of its radius behind the tip of the previous one, on
 // its axis (inside the previous tip's nominal cap), and turns. Returns the number of pieces
 // of the exported mesh (spacing 0.7 mm).
-size_t spineChains(unsigned seed) {
+size_t spineChains(unsigned seed, int refineLevels = 0) {
     SculptConfig cfg = emptyConfig(PlacementMode::Swept);
     cfg.sphereRadiusMm = 10;
+    cfg.refineLevels = refineLevels;
     Sculpture s(cfg);
     std::mt19937 rng(seed);
     std::normal_distribution<double> N(0, 1);
@@ -933,6 +934,13 @@ TEST(CarveDepth, APlungeDownTheNormalLeavesAnOpenHole) {
 TEST(CarveDepth, ChainsOfSpinesStayInOnePiece) {
     for (unsigned seed : {3u, 4u, 5u, 6u})
         EXPECT_EQ(spineChains(seed), 1u) << "seed " << seed;
+}
+
+// The same at refine_levels 2, where the spines' sizes 1 and 2 have fewer than two levels below
+// them and are not refined. (Refined one level down, size 2 left seed 3 in two pieces.)
+TEST(CarveDepth, RefinedChainsOfSpinesStayInOnePiece) {
+    for (unsigned seed : {3u, 4u, 5u, 6u})
+        EXPECT_EQ(spineChains(seed, 2), 1u) << "seed " << seed;
 }
 
 // Every spine joins the clay it starts in: material all along its axis, and one piece. Seed

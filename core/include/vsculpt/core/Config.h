@@ -233,8 +233,9 @@ struct SculptConfig {
     /// lattices"). Projects keep the value they were made with.
     int finerLatticeLevels = 0;
     /// Swept mode, experimental: an add or carve ends by placing, on the lattice this many
-    /// levels below its own (0..2, never below level 1), the residual between its target
-    /// change and what its own lattice realised (docs/placement.md "Refining strokes"). At 2
+    /// levels below its own (0..2; a tool with fewer levels below it is not refined), the
+    /// residual between its target change and what its own lattice realised
+    /// (docs/placement.md "Refining strokes"). At 2
     /// a worked detail's strokes spill a third as far beyond the tool, but worked clay keeps
     /// enclosed voids the default does not make and the weights grow under scrubbing. Off by
     /// default; projects keep the value they were made with.

@@ -546,6 +546,19 @@ TEST(CarveDepth, RefinedCarvesOnClayOfStrokesFollowTheTool) {
             }
 }
 
+// Along the ray from + t dir, t from tMin to tMax in steps: where the first solid span begins
+// and where it ends (NAN where there is none, or it does not end).
+std::pair<double, double> firstSolidSpan(FieldProbe& probe, const Vec3& from, const Vec3& dir,
+                                         double tMin, double tMax, double step) {
+    double begin = NAN;
+    for (double t = tMin; t <= tMax; t += step) {
+        const bool in = probe.value(from + t * dir) > 0;
+        if (in && std::isnan(begin)) begin = t;
+        if (!in && !std::isnan(begin)) return {begin, t};
+    }
+    return {begin, NAN};
+}
+
 // A carve straight down inside the initial sphere's side, leaving a wall w mm thick between
 // the tool and the sphere's surface (found by a QA pass at stop 39: on the tool's lattice a
 // size-7 carve removed a 16 mm wall whole, sizes 5-6 an 8 mm one; docs/placement.md "What
@@ -571,15 +584,8 @@ TEST(CarveDepth, ARefinedCarveKeepsTheWallBesideIt) {
             // Along x at z = 2: the sphere's surface, the wall, the tool's face, the hole.
             const double z = 2, step = 0.01 * rho;
             const double outer = -std::sqrt(r * r - z * z), inner = x - rho;
-            double outerFound = NAN, innerFound = NAN;
-            for (double t = outer - 0.5 * rho; t <= x; t += step) {
-                const bool in = probe.value(Vec3(t, 0, z)) > 0;
-                if (in && std::isnan(outerFound)) outerFound = t;
-                if (!in && !std::isnan(outerFound)) {
-                    innerFound = t;
-                    break;
-                }
-            }
+            const auto [outerFound, innerFound] =
+                firstSolidSpan(probe, Vec3(0, 0, z), Vec3(1, 0, 0), outer - 0.5 * rho, x, step);
             ASSERT_FALSE(std::isnan(outerFound)) << what.str() << ": the wall is gone";
             EXPECT_NEAR(outerFound, outer, 0.1 * rho) << what.str();
             EXPECT_NEAR(innerFound, inner, 0.1 * rho) << what.str();
@@ -606,15 +612,8 @@ TEST(CarveDepth, ARefinedCarveDownAColumnKeepsItsWall) {
         for (const Vec3& dir : {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0) / std::sqrt(2.0)}) {
             std::ostringstream what;
             what << "z " << z << " direction " << dir.x << " " << dir.y;
-            double inner = NAN, outer = NAN;
-            for (double t = 0; t <= column + rho; t += 0.01 * rho) {
-                const bool in = probe.value(Vec3(t * dir.x, t * dir.y, z)) > 0;
-                if (in && std::isnan(inner)) inner = t;
-                if (!in && !std::isnan(inner)) {
-                    outer = t;
-                    break;
-                }
-            }
+            const auto [inner, outer] =
+                firstSolidSpan(probe, Vec3(0, 0, z), dir, 0, column + rho, 0.01 * rho);
             ASSERT_FALSE(std::isnan(inner)) << what.str() << ": the wall is gone";
             EXPECT_NEAR(inner, rho, 0.1 * rho) << what.str();
             EXPECT_NEAR(outer, column, 0.1 * rho) << what.str();

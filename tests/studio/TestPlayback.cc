@@ -365,18 +365,18 @@ TEST(Playback, PrintEnclosedVoidsOfAWorkedDetailAgainstExactCsg) {
                     value[index(i, j, k)] = float(probe.value(p));
                     clay[index(i, j, k)] = value[index(i, j, k)] > 0;
                 }
-        // With VSCULPT_VOID_DETAIL each void of the clay: where it starts (its first cell in
-        // x, y, z order), the field there before and after the stroke, how many of its cells
-        // the exact sequence keeps solid (few: a cavity the strokes carved whose mouth the clay
-        // closed; most: a pocket opened inside material), and its lowest field.
-        std::vector<std::vector<size_t>> regions;
-        // And how far the clay is from the exact sequence: the volume only the exact has (the
-        // clay missed it) and only the clay has (it spilled), over the grid.
+        // How far the clay is from the exact sequence: the volume only the exact has (the clay
+        // missed it) and only the clay has (it spilled), over the grid.
         size_t exactOnly = 0, clayOnly = 0;
         for (size_t id = 0; id < exact.size(); ++id) {
             exactOnly += exact[id] && !clay[id] ? 1 : 0;
             clayOnly += clay[id] && !exact[id] ? 1 : 0;
         }
+        // With VSCULPT_VOID_DETAIL each void of the clay: where it starts (its first cell in
+        // x, y, z order), the field there before and after the stroke, how many of its cells
+        // the exact sequence keeps solid (few: a cavity the strokes carved whose mouth the clay
+        // closed; most: a pocket opened inside material), and its lowest field.
+        std::vector<std::vector<size_t>> regions;
         const double cell = step * step * step;
         std::printf(
             "stroke %3d %-5s size %d: voids exact %s, clay %s; pieces exact %s, clay %s; "
@@ -420,19 +420,10 @@ TEST(Playback, PrintEnclosedVoidsOfAWorkedDetailAgainstExactCsg) {
             for (int row = kN * kScale - 1; row >= 0; --row)
                 for (int col = 0; col < kN * kScale; ++col) {
                     const size_t id = index(col / kScale, j, row / kScale);
-                    const bool e = exact[id], m = clay[id];
-                    const unsigned char rgb[3] = {static_cast<unsigned char>(e && m ? 160
-                                                                             : e    ? 220
-                                                                             : m    ? 40
-                                                                                    : 255),
-                                                  static_cast<unsigned char>(e && m ? 160
-                                                                             : e    ? 40
-                                                                             : m    ? 80
-                                                                                    : 255),
-                                                  static_cast<unsigned char>(e && m ? 160
-                                                                             : e    ? 40
-                                                                             : m    ? 220
-                                                                                    : 255)};
+                    // Indexed by (exact, clay): white, blue, red, grey.
+                    static constexpr unsigned char kColour[4][3] = {
+                        {255, 255, 255}, {40, 80, 220}, {220, 40, 40}, {160, 160, 160}};
+                    const unsigned char* rgb = kColour[(exact[id] ? 2 : 0) + (clay[id] ? 1 : 0)];
                     std::fwrite(rgb, 1, 3, f);
                 }
             std::fclose(f);

@@ -294,6 +294,17 @@ double StrokeBuilder::coarseChangeAt(const Vec3& pos, Vec3* gradient) const {
     return change;
 }
 
+FieldSample StrokeBuilder::probeLessCoarse(const Vec3& pos) {
+    FieldSample s = mProbe->sample(pos);
+    s.value += mSculpture.levels().iso();
+    if (mCoarse) {
+        Vec3 g(0.0);
+        s.value -= coarseChangeAt(pos, &g);
+        s.gradient -= g;
+    }
+    return s;
+}
+
 double StrokeBuilder::preStrokeRawSum(const LatticeCoord& v, const Vec3& pos) {
     double raw = mProbe->rawSum(pos) - coarseChangeAt(pos);
     if (mDeltas.empty()) return raw;
@@ -334,13 +345,7 @@ double StrokeBuilder::preStrokeValueAt(const Vec3& pos) {
 }
 
 FieldSample StrokeBuilder::preStrokeSampleAt(const Vec3& pos) {
-    FieldSample s = mProbe->sample(pos);
-    s.value += mSculpture.levels().iso();
-    if (mCoarse) {
-        Vec3 g(0.0);
-        s.value -= coarseChangeAt(pos, &g);
-        s.gradient -= g;
-    }
+    FieldSample s = probeLessCoarse(pos);
     const HermiteFalloff& F = mSculpture.levels().falloff();
     const double support = mSculpture.levels().level(mLattice).supportMm;
     forEachDeltaNear(pos, [&](double delta, const Vec3& d, double dist, double u) {
@@ -351,13 +356,7 @@ FieldSample StrokeBuilder::preStrokeSampleAt(const Vec3& pos) {
 }
 
 FieldSample StrokeBuilder::preStrokeSample(const LatticeCoord& v, const Vec3& pos) {
-    FieldSample s = mProbe->sample(pos);
-    s.value += mSculpture.levels().iso();
-    if (mCoarse) {
-        Vec3 g(0.0);
-        s.value -= coarseChangeAt(pos, &g);
-        s.gradient -= g;
-    }
+    FieldSample s = probeLessCoarse(pos);
     if (mDeltas.empty()) return s;
     const ToolLevel& tl = mSculpture.levels().level(mLattice);
     const HermiteFalloff& F = mSculpture.levels().falloff();
@@ -422,7 +421,7 @@ EditResult StrokeBuilder::addSample(const Vec3& p) {
         throw std::invalid_argument(msg.str());
     }
     mLast = p;
-    mPath.push_back(p);
+    if (refinable()) mPath.push_back(p);
     mFinished = false;
     if (mOp == ToolOp::Smooth) return addSmoothSample(a, p);
     return mSculpture.config().placement == PlacementMode::Swept ? addSampleSwept(a, p)
@@ -876,13 +875,17 @@ int StrokeBuilder::refineLattice() const {
     return mLattice - mSculpture.config().refineLevels;
 }
 
-bool StrokeBuilder::refines() const {
+bool StrokeBuilder::refinable() const {
     // All k levels or none: a refinement fewer levels down than asked is worse than none
     // (size 2 at k = 2, refined on level 1 only: 20 % carves on the sphere 0.78 of their depth,
     // 0.95 unrefined; chains of size-1/2 spines came apart in two pieces).
     return mOp != ToolOp::Smooth && !mCoarse &&
            mSculpture.config().placement == PlacementMode::Swept &&
-           mSculpture.config().refineLevels > 0 && refineLattice() >= 1 && !mPath.empty();
+           mSculpture.config().refineLevels > 0 && refineLattice() >= 1;
+}
+
+bool StrokeBuilder::refines() const {
+    return refinable() && !mPath.empty();
 }
 
 void StrokeBuilder::startRefinement() {

@@ -235,10 +235,10 @@ struct SculptConfig {
     /// Swept mode, experimental: an add or carve ends by placing, on the lattice this many
     /// levels below its own (0..2; a tool with fewer levels below it is not refined), the
     /// residual between its target change and what its own lattice realised
-    /// (docs/placement.md "Refining strokes"). At 2
-    /// a worked detail's strokes spill a third as far beyond the tool, but worked clay keeps
-    /// enclosed voids the default does not make and the weights grow under scrubbing. Off by
-    /// default; projects keep the value they were made with.
+    /// (docs/placement.md "Refining strokes"). At 2 a worked detail's strokes spill a third as
+    /// far beyond the tool, but worked clay keeps enclosed voids the default does not make and
+    /// the weights grow under scrubbing. Off by default; projects keep the value they were
+    /// made with.
     int refineLevels = 0;
     /// Free and swept modes: a smooth stroke ends by giving back, under the tool, the volume
     /// its diffusion took or added (each changed weight moves by delta |its change|, one delta

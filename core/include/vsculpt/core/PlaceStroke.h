@@ -139,9 +139,11 @@ class StrokeBuilder {
     StrokeBuilder(Sculpture& sculpture, ToolOp op, int level, MirrorAxis mirror, int lattice,
                   const StrokeBuilder* coarse);
     void init(int lattice);
-    /// The lattice the refinement places on (placement.refine_levels below this one's, never
-    /// below level 1), and whether finish() refines this stroke (it is a finer one).
+    /// The lattice the refinement places on (placement.refine_levels below this one's);
+    /// whether this stroke is refined at all (its op, mode and a lattice of level 1 or above
+    /// there), and whether finish() refines it (refinable, with samples).
     int refineLattice() const;
+    bool refinable() const;
     bool refines() const;
     /// The refinement in three parts: the stroke completed on its own lattice and the fine
     /// builder made; the fine builder's samples (reads only); finish() writes.
@@ -152,6 +154,8 @@ class StrokeBuilder {
     /// The change this stroke's coarse pass realised at `pos` (refinement only), and its
     /// gradient added to `gradient` when given.
     double coarseChangeAt(const Vec3& pos, Vec3* gradient = nullptr) const;
+    /// The store's raw sum and gradient at `pos`, less the coarse pass's change (refinement).
+    FieldSample probeLessCoarse(const Vec3& pos);
     double preStrokeRawSum(const LatticeCoord& v, const Vec3& pos);
     /// The same at any point (not only at a vertex of the tool's lattice).
     FieldSample preStrokeSampleAt(const Vec3& pos);
@@ -187,7 +191,7 @@ class StrokeBuilder {
     int mLattice;  // the level whose lattice the weights are placed on (swept: may be finer)
     MirrorAxis mMirror;
     std::optional<Vec3> mLast;
-    std::vector<Vec3> mPath;                 // every sample, for the refinement
+    std::vector<Vec3> mPath;                 // every sample of a refinable stroke
     const StrokeBuilder* mCoarse = nullptr;  // refinement: the pass whose residual it places
     std::unique_ptr<StrokeBuilder> mFine;    // a refined stroke's refinement, during finish
     bool mFineSampled = false;               // its samples are in

@@ -121,15 +121,17 @@ Scrubbed scrubOneSpot(Sculpture& s, int strokes) {
         r.lo = std::min(r.lo, v);
         r.hi = std::max(r.hi, v);
     }
+    std::printf("%d strokes: max |w| %.3f, the field %.3f .. %.3f\n", strokes, r.maxWeight, r.lo,
+                r.hi);
     return r;
 }
 
-// The same in a new sculpture of `cfg`, for 160 strokes or VSCULPT_SCRUB_STROKES (longer runs
-// by hand).
-Scrubbed scrubOneSpotWith(const SculptConfig& cfg) {
+// The same in a new sculpture of `cfg`, for `strokes` strokes or VSCULPT_SCRUB_STROKES (longer
+// runs by hand).
+Scrubbed scrubOneSpotWith(const SculptConfig& cfg, int strokes = 160) {
     Sculpture s(cfg);
     const char* n = std::getenv("VSCULPT_SCRUB_STROKES");
-    return scrubOneSpot(s, n ? std::atoi(n) : 160);
+    return scrubOneSpot(s, n ? std::atoi(n) : strokes);
 }
 
 // With the plain stencil the weights grew without bound (240 strokes: max |w| 1.5e3, the field
@@ -190,8 +192,25 @@ TEST(DeconvolutionStencil, AddsAndCarvesAlternatingOnAFinerLatticeKeepTheWeights
     cfg.finerLatticeLevels = 2;
     const Scrubbed r = scrubOneSpotWith(cfg);
     EXPECT_EQ(r.levels, std::set<int>{3});  // every weight two levels below the tool's 5
-    EXPECT_LT(r.maxWeight, 1.0);            // measured 0.28 (1.30 after 400 strokes)
-    // Measured -0.07 .. 0.06 (-0.69 .. 0.32 after 400 strokes).
+    EXPECT_LT(r.maxWeight, 1.0);            // measured 0.54
+    // Measured -0.17 .. 0.09 (the long session: AFinerLatticeStaysBoundedOverALongSession).
+    EXPECT_GT(r.lo, -1.0);
+    EXPECT_LT(r.hi, 1.0);
+}
+
+// The same over a long session: on the finer lattice a checkerboard of weights, almost
+// invisible in the field, grew once a few hundred strokes had worked the spot (max |w| 0.54
+// after 300 strokes, 2.9 after 600, 5.5 after 800 with the field out of its range; measured
+// before kFineCheckerboardDecay). About 40 s in a Release build; skipped under the
+// sanitizers, where it would take ten times that and the property is numerical.
+TEST(DeconvolutionStencil, AFinerLatticeStaysBoundedOverALongSession) {
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "numerical and long: Release builds only";
+#endif
+    SculptConfig cfg;
+    cfg.finerLatticeLevels = 2;
+    const Scrubbed r = scrubOneSpotWith(cfg, 600);
+    EXPECT_LT(r.maxWeight, 1.0);  // measured 0.54
     EXPECT_GT(r.lo, -1.0);
     EXPECT_LT(r.hi, 1.0);
 }
@@ -204,8 +223,8 @@ TEST(DeconvolutionStencil, AddsAndCarvesAlternatingWithRefinementKeepTheWeightsB
     cfg.refineLevels = 2;
     const Scrubbed r = scrubOneSpotWith(cfg);
     EXPECT_EQ(r.levels, (std::set<int>{3, 5}));  // the tool's and two below
-    // Measured 0.68, the field -0.15 .. 0.18 (2.08 and -0.46 .. 0.18 after 400 strokes: it
-    // still grows, docs/placement.md "Refining strokes").
+    // Measured 0.58, the field -0.11 .. 0.17. It still grows, without bound: 1.80 after 400
+    // strokes, 5.6 after 800 with the field -1.26 (docs/placement.md "Refining strokes").
     EXPECT_LT(r.maxWeight, 1.0);
     EXPECT_GT(r.lo, -1.0);
     EXPECT_LT(r.hi, 1.0);

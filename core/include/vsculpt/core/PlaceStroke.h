@@ -154,6 +154,9 @@ class StrokeBuilder {
     /// The change this stroke's coarse pass realised at `pos` (refinement only), and its
     /// gradient added to `gradient` when given.
     double coarseChangeAt(const Vec3& pos, Vec3* gradient = nullptr) const;
+    /// The checkerboard part of the pre-stroke weights around lattice vertex `v` (a finer
+    /// lattice than the tool's sheds it: kFineCheckerboardDecay).
+    double checkerboardOf(const LatticeCoord& v) const;
     /// The store's raw sum and gradient at `pos`, less the coarse pass's change (refinement).
     FieldSample probeLessCoarse(const Vec3& pos);
     double preStrokeRawSum(const LatticeCoord& v, const Vec3& pos);

@@ -868,6 +868,8 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
             if (u) w += tap.correction * u->correction;
         }
         w = clampToOp(w);
+        // After the clamp: before it, an add could shed only the checkerboard's negative half
+        // (the field it lowers is the blur's -0.05 of the weights shed).
         if (mCoarse || mLattice < mLevel) w -= kFineCheckerboardDecay * checkerboardOf(v);
         const std::optional<float> current = store.get(mLattice, v);
         auto [vit, first] = mVisited.try_emplace(v, Visit{current, 0});

@@ -3,8 +3,8 @@
 # `with_xvfb.sh COMMAND...`. The tests' GL and window runs use it in place of `xvfb-run -a`:
 # - Debian 12's xvfb-run sometimes fails to remove its temporary folder after the command
 #   ("problem while cleaning up temporary directory") and then exits 5 in place of the
-#   command's code; run in parallel by ctest, cli.exit.window_expect failed so about once in
-#   40 runs (and in CI).
+#   command's code; run in parallel by ctest, cli.exit.window_expect failed so once in 40
+#   runs here (likely the Release test that failed stop 45's CI).
 # - Xvfb picks a free display itself (-displayfd), so parallel runs never race for a number.
 # Without -auth the server takes local connections only (-nolisten tcp), with no cookie to clean.
 set -uo pipefail

@@ -93,6 +93,17 @@ constexpr double kFitNormFloor = 0.3;
 // checkerboard around it at hardly any cost to the surface: 0.54 after 600 strokes at 1 (0.5
 // left 1.2 on the refinement's lattice, 1 left 0.96).
 constexpr double kFineCheckerboardDecay = 1.0;
+// The refinement's two lattices can hold large, opposite weights whose fields cancel: the tool's
+// pass answers the fine residual it reads at its own vertices, the fine pass cancels the
+// answer between them, and nothing pulled the split back. Adds and carves alternating over one
+// spot at refine_levels 2 grew so without bound (max |w| 2.1 after 400 strokes, 14 after 800,
+// the field out of its range; 5.6 after 800 with the checkerboard decay above). So each
+// refined stroke hands this share of the fine weights within its reach to its own lattice:
+// the fine weights shed it, the tool's pass adds their field's share to its targets (what it
+// can hold of it, it takes over), and the fine residual puts back the rest, so the clay is the
+// same to the fine pass's accuracy. At 0.1: max |w| 0.56 after 800 strokes, the field within
+// +-0.05 (0.3: 0.58).
+constexpr double kRefineLeak = 0.1;
 // A carve's fit reaches further: the deepest groove bottom lies 1.4 radii below the
 // surface, but inside undulating clay, where the field flattens, the first-order reading puts
 // it up to about three times deeper (a size-6 groove at 140 % on the slab of strokes: 0.89
@@ -438,6 +449,42 @@ EditResult StrokeBuilder::addSample(const Vec3& p) {
                                                                  : addSampleOnTool(a, p);
 }
 
+namespace {
+// The field at `pos` of one level's lattice weights, weightAt(coord) giving each (optional).
+template <class WeightAt>
+double latticeFieldAt(const ToolLevels& levels, int level, const Vec3& pos, WeightAt&& weightAt) {
+    const ToolLevel& tl = levels.level(level);
+    const HermiteFalloff& F = levels.falloff();
+    const double h = tl.spacingMm, R = tl.supportMm;
+    const Vec3 q = pos / h;
+    const double r = R / h;
+    double sum = 0;
+    for (int x = int(std::ceil(q.x - r)); x <= int(std::floor(q.x + r)); ++x)
+        for (int y = int(std::ceil(q.y - r)); y <= int(std::floor(q.y + r)); ++y)
+            for (int z = int(std::ceil(q.z - r)); z <= int(std::floor(q.z + r)); ++z) {
+                const double d = glm::length(pos - Vec3(x, y, z) * h);
+                if (d >= R) continue;
+                if (const std::optional<float> w = weightAt(LatticeCoord{x, y, z}))
+                    sum += *w * F.value(d / R);
+            }
+    return sum;
+}
+}  // namespace
+
+double StrokeBuilder::levelField(int level, const Vec3& pos) const {
+    return latticeFieldAt(mSculpture.levels(), level, pos,
+                          [&](const LatticeCoord& c) { return mSculpture.store().get(level, c); });
+}
+
+double StrokeBuilder::leakingField(const Vec3& pos) const {
+    return latticeFieldAt(mSculpture.levels(), mLattice, pos,
+                          [&](const LatticeCoord& c) -> std::optional<float> {
+                              const auto it = mLeaking.find(c);
+                              if (it == mLeaking.end()) return std::nullopt;
+                              return it->second;
+                          });
+}
+
 double StrokeBuilder::checkerboardOf(const LatticeCoord& v) const {
     // The product of (1 - cos w) / 2 along each axis: 1 at the checkerboard, zero sum, and of
     // sixth order at zero, so the surface's own frequencies are left alone.
@@ -606,11 +653,14 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
             // tool opened pockets inside the clay (the worked detail's first 30 strokes:
             // enclosed voids of up to 82 mm3 without the bound, 14 with it; the same bound on
             // the tool's pass too changed nothing, 14.3).
-            const double residual = sided(want) - coarseChangeAt(pos);
+            const double residual =
+                sided(want) - coarseChangeAt(pos) + kRefineLeak * leakingField(pos);
             return std::abs(residual) < deadBand ? 0.0 : residual;
         }
-        if (add) return std::abs(t.phi) > 1e-9 && want < deadBand ? 0.0 : want;
-        return -want < deadBand ? 0.0 : want;
+        // The fine weights this stroke's refinement sheds (kRefineLeak), to take over.
+        const double leak = refinable() ? kRefineLeak * levelField(refineLattice(), pos) : 0.0;
+        if (add) return std::abs(t.phi) > 1e-9 && want + leak < deadBand ? 0.0 : want + leak;
+        return -(want + leak) < deadBand ? 0.0 : want + leak;
     };
 
     // The path's closest point to a vertex: on either segment with a mirror plane (on a tie the
@@ -875,7 +925,8 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
         auto [vit, first] = mVisited.try_emplace(v, Visit{current, 0});
         const std::optional<float> before = vit->second.preStroke;
         std::optional<float> after = before;
-        if (before || std::abs(w) > 1e-9) after = float(double(before.value_or(0.0f)) + w);
+        const double keep = mCoarse && mLeaking.count(v) ? 1.0 - kRefineLeak : 1.0;
+        if (before || std::abs(w) > 1e-9) after = float(keep * double(before.value_or(0.0f)) + w);
         if (after == current) {
             mHeld.erase(v);
             continue;
@@ -928,8 +979,26 @@ void StrokeBuilder::startRefinement() {
 }
 
 void StrokeBuilder::sampleRefinement() {
+    // The fine weights within the stroke's reach, as they were before it (the fine pass writes
+    // nothing before finish()): each sheds kRefineLeak of itself.
+    StrokeBuilder& fine = *mFine;
+    const double spacing = mSculpture.levels().level(fine.mLattice).spacingMm;
+    const double radius = 0.5 * mSculpture.levels().level(mLevel).diameterMm;
+    const double reach = (1 + kSweptMarginOverRadius) * radius;
+    for (size_t i = 0; i < mPath.size(); ++i)
+        for (const SweptVertex& sv :
+             sweptWithMirror(spacing, mPath[i == 0 ? 0 : i - 1], mPath[i], reach, mMirror))
+            if (const std::optional<float> w = mSculpture.store().get(fine.mLattice, sv.coord))
+                fine.mLeaking.emplace(sv.coord, *w);
     for (const Vec3& p : mPath)
-        mFine->addSample(p);
+        fine.addSample(p);
+    // Those the samples did not reweigh only shed it (in coordinate order, as every write).
+    std::vector<std::pair<LatticeCoord, float>> rest(fine.mLeaking.begin(), fine.mLeaking.end());
+    std::sort(rest.begin(), rest.end(),
+              [](const auto& l, const auto& r) { return l.first < r.first; });
+    for (const auto& [v, w] : rest)
+        if (fine.mVisited.emplace(v, Visit{w, 0}).second)
+            fine.mHeld[v] = float((1.0 - kRefineLeak) * double(w));
     mFineSampled = true;
 }
 

@@ -223,8 +223,24 @@ TEST(DeconvolutionStencil, AddsAndCarvesAlternatingWithRefinementKeepTheWeightsB
     cfg.refineLevels = 2;
     const Scrubbed r = scrubOneSpotWith(cfg);
     EXPECT_EQ(r.levels, (std::set<int>{3, 5}));  // the tool's and two below
-    // Measured 0.58, the field -0.11 .. 0.17. It still grows, without bound: 1.80 after 400
-    // strokes, 5.6 after 800 with the field -1.26 (docs/placement.md "Refining strokes").
+    // Measured 0.58, the field -0.11 .. 0.17 (the long session: below).
+    EXPECT_LT(r.maxWeight, 1.0);
+    EXPECT_GT(r.lo, -1.0);
+    EXPECT_LT(r.hi, 1.0);
+}
+
+// The same over a long session. The two lattices grew large, opposite weights whose fields
+// cancel (max |w| 5.0 after 600 strokes, 14 after 800 with the field out of its range; 2.7 and
+// 5.6 with the finer lattice's checkerboard decay alone) until each refined stroke handed a
+// share of the fine weights in its reach to the tool's lattice (kRefineLeak). About 30 s in a
+// Release build; skipped under the sanitizers.
+TEST(DeconvolutionStencil, ARefinedSessionStaysBoundedOverALongSession) {
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "numerical and long: Release builds only";
+#endif
+    SculptConfig cfg;
+    cfg.refineLevels = 2;
+    const Scrubbed r = scrubOneSpotWith(cfg, 600);
     EXPECT_LT(r.maxWeight, 1.0);
     EXPECT_GT(r.lo, -1.0);
     EXPECT_LT(r.hi, 1.0);

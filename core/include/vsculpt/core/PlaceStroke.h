@@ -207,6 +207,13 @@ class StrokeBuilder {
     // Thesis: a vertex is decided once. Free: a vertex is decided again when the path comes
     // closer to it, always from the pre-stroke state (its weight depends on that distance).
     std::unordered_map<LatticeCoord, Visit, LatticeCoordHash> mVisited;
+    // Refinement: the fine weights within the stroke's reach, at their pre-stroke values; each
+    // sheds kRefineLeak of itself to the tool's lattice.
+    std::unordered_map<LatticeCoord, float, LatticeCoordHash> mLeaking;
+    /// The field at `pos` of the weights that shed (refinement), before they do.
+    double leakingField(const Vec3& pos) const;
+    /// The field at `pos` of the store's weights on one level's lattice.
+    double levelField(int level, const Vec3& pos) const;
     std::unordered_map<LatticeCoord, float, LatticeCoordHash> mDeltas;  // weight change per vertex
     std::vector<LatticeCoord> mStencil;  // lattice offsets within the level's support radius
     std::vector<SkeletonChange> mChanges;

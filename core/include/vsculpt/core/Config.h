@@ -236,9 +236,9 @@ struct SculptConfig {
     /// levels below its own (0..2; a tool with fewer levels below it is not refined), the
     /// residual between its target change and what its own lattice realised
     /// (docs/placement.md "Refining strokes"). At 2 a worked detail's strokes spill a third as
-    /// far beyond the tool, but worked clay keeps enclosed voids the default does not make and
-    /// the weights grow under scrubbing. Off by default; projects keep the value they were
-    /// made with.
+    /// far beyond the tool, but it costs six times the time, the worked detail comes out in 3
+    /// pieces and 20 % carves on the sphere reach 1.12 of their depth. Off by default; projects
+    /// keep the value they were made with.
     int refineLevels = 0;
     /// Free and swept modes: a smooth stroke ends by giving back, under the tool, the volume
     /// its diffusion took or added (each changed weight moves by delta |its change|, one delta

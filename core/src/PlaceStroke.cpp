@@ -340,10 +340,11 @@ double StrokeBuilder::preStrokeRawSum(const LatticeCoord& v, const Vec3& pos) {
     return raw;
 }
 
+namespace {
+// Every vertex of a level's lattice whose support reaches `pos`: visit(coord, pos less the
+// vertex, their distance).
 template <class Fn>
-void StrokeBuilder::forEachDeltaNear(const Vec3& pos, Fn&& visit) const {
-    if (mDeltas.empty()) return;
-    const ToolLevel& tl = mSculpture.levels().level(mLattice);
+void forEachVertexReaching(const ToolLevel& tl, const Vec3& pos, Fn&& visit) {
     const Vec3 q = pos / tl.spacingMm;
     const double r = tl.supportMm / tl.spacingMm;
     for (int x = int(std::ceil(q.x - r)); x <= int(std::floor(q.x + r)); ++x)
@@ -351,10 +352,31 @@ void StrokeBuilder::forEachDeltaNear(const Vec3& pos, Fn&& visit) const {
             for (int z = int(std::ceil(q.z - r)); z <= int(std::floor(q.z + r)); ++z) {
                 const Vec3 d = pos - Vec3(x, y, z) * tl.spacingMm;
                 const double dist = glm::length(d);
-                if (dist >= tl.supportMm) continue;
-                const auto it = mDeltas.find(LatticeCoord{x, y, z});
-                if (it != mDeltas.end()) visit(double(it->second), d, dist, dist / tl.supportMm);
+                if (dist < tl.supportMm) visit(LatticeCoord{x, y, z}, d, dist);
             }
+}
+
+// The field at `pos` of one level's lattice weights, weightAt(coord) giving each (optional).
+template <class WeightAt>
+double latticeFieldAt(const ToolLevels& levels, int level, const Vec3& pos, WeightAt&& weightAt) {
+    const ToolLevel& tl = levels.level(level);
+    const HermiteFalloff& F = levels.falloff();
+    double sum = 0;
+    forEachVertexReaching(tl, pos, [&](const LatticeCoord& c, const Vec3&, double dist) {
+        if (const std::optional<float> w = weightAt(c)) sum += *w * F.value(dist / tl.supportMm);
+    });
+    return sum;
+}
+}  // namespace
+
+template <class Fn>
+void StrokeBuilder::forEachDeltaNear(const Vec3& pos, Fn&& visit) const {
+    if (mDeltas.empty()) return;
+    const ToolLevel& tl = mSculpture.levels().level(mLattice);
+    forEachVertexReaching(tl, pos, [&](const LatticeCoord& c, const Vec3& d, double dist) {
+        const auto it = mDeltas.find(c);
+        if (it != mDeltas.end()) visit(double(it->second), d, dist, dist / tl.supportMm);
+    });
 }
 
 double StrokeBuilder::preStrokeValueAt(const Vec3& pos) {
@@ -448,28 +470,6 @@ EditResult StrokeBuilder::addSample(const Vec3& p) {
     return mSculpture.config().placement == PlacementMode::Swept ? addSampleSwept(a, p)
                                                                  : addSampleOnTool(a, p);
 }
-
-namespace {
-// The field at `pos` of one level's lattice weights, weightAt(coord) giving each (optional).
-template <class WeightAt>
-double latticeFieldAt(const ToolLevels& levels, int level, const Vec3& pos, WeightAt&& weightAt) {
-    const ToolLevel& tl = levels.level(level);
-    const HermiteFalloff& F = levels.falloff();
-    const double h = tl.spacingMm, R = tl.supportMm;
-    const Vec3 q = pos / h;
-    const double r = R / h;
-    double sum = 0;
-    for (int x = int(std::ceil(q.x - r)); x <= int(std::floor(q.x + r)); ++x)
-        for (int y = int(std::ceil(q.y - r)); y <= int(std::floor(q.y + r)); ++y)
-            for (int z = int(std::ceil(q.z - r)); z <= int(std::floor(q.z + r)); ++z) {
-                const double d = glm::length(pos - Vec3(x, y, z) * h);
-                if (d >= R) continue;
-                if (const std::optional<float> w = weightAt(LatticeCoord{x, y, z}))
-                    sum += *w * F.value(d / R);
-            }
-    return sum;
-}
-}  // namespace
 
 double StrokeBuilder::levelField(int level, const Vec3& pos) const {
     return latticeFieldAt(mSculpture.levels(), level, pos,
@@ -653,14 +653,12 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
             // tool opened pockets inside the clay (the worked detail's first 30 strokes:
             // enclosed voids of up to 82 mm3 without the bound, 14 with it; the same bound on
             // the tool's pass too changed nothing, 14.3).
-            const double residual =
-                sided(want) - coarseChangeAt(pos) + kRefineLeak * leakingField(pos);
+            const double residual = sided(want) - coarseChangeAt(pos) + t.shed;
             return std::abs(residual) < deadBand ? 0.0 : residual;
         }
-        // The fine weights this stroke's refinement sheds (kRefineLeak), to take over.
-        const double leak = refinable() ? kRefineLeak * levelField(refineLattice(), pos) : 0.0;
-        if (add) return std::abs(t.phi) > 1e-9 && want + leak < deadBand ? 0.0 : want + leak;
-        return -(want + leak) < deadBand ? 0.0 : want + leak;
+        // The fine weights this stroke's refinement sheds, to take over.
+        if (add) return std::abs(t.phi) > 1e-9 && want + t.shed < deadBand ? 0.0 : want + t.shed;
+        return -(want + t.shed) < deadBand ? 0.0 : want + t.shed;
     };
 
     // The path's closest point to a vertex: on either segment with a mirror plane (on a tie the
@@ -811,6 +809,11 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
             t.gradient = fs.gradient;
             t.grad = glm::length(fs.gradient);
             t.lateral = sv.lateralMm;
+            // kRefineLeak: the fine pass puts back what the fine weights shed, the tool's pass
+            // takes it over (both pre-stroke, so once per target).
+            t.shed = mCoarse       ? kRefineLeak * leakingField(pos)
+                     : refinable() ? kRefineLeak * levelField(refineLattice(), pos)
+                                   : 0.0;
             setControl(t, pos);
             t.change = targetChange(t, pos);
             touched.push_back(sv.coord);

@@ -226,6 +226,7 @@ class StrokeBuilder {
     // field, decided from the pre-stroke field; weights are the deconvolved target changes.
     struct Target {
         double phi = 0;      // pre-stroke field without c
+        double shed = 0;     // refinement: the field of the fine weights' shed share here
         Vec3 gradient{0.0};  // of the pre-stroke field, per mm
         double grad = 0;     // its length
         double lateral = 0;  // closest approach of the path so far, mm

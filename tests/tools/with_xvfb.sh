@@ -9,6 +9,8 @@
 # Without -auth the server takes local connections only (-nolisten tcp), with no cookie to clean.
 set -uo pipefail
 dir="$(mktemp -d "${TMPDIR:-/tmp}/vsculpt-xvfb.XXXXXX")" || exit 1
+# Made here: the background job below opens it only when it runs, after the first read may.
+: >"$dir/display"
 Xvfb -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp 3>"$dir/display" 2>"$dir/log" &
 xvfb=$!
 cleanup() {

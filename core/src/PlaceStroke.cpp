@@ -63,6 +63,8 @@ constexpr double kDeadBand = 0.02;
 // correction sits at its bottom and the smooth tool's roughness test on dabbed clay fails:
 // -11 % per pass instead of -15 %); depths are as good (docs/placement.md).
 constexpr double kFitShareWidth = 2.5;
+// The same on the refinement's lattice (placement.refine_levels), in its own spacings.
+constexpr double kFitShareWidthRefining = 1.0;
 // A carve's shares narrow to the transfer's own width where the old clay is flat: there the
 // wide spread moves the surface beyond the tool by millimetres (an error of 0.01 in a field
 // sloping 0.005 per mm is 2 mm), while steep fresh clay needs the wide spread for its shallow
@@ -565,9 +567,11 @@ double StrokeBuilder::fitCorrection(const Target& t) {
     // In empty space there is no clay to leave a gap in: the fit there takes back too (with
     // aims at every vertex in empty space, one-sided pushed a stroke's radius to 1.052 of the
     // tool's, two-sided kept it within 1.047).
-    const bool oneSided = add && !t.emptyAim;
-    if (oneSided && need <= predicted) return 0;
-    const double f = t.change + (need - predicted) * t.share / norm;
+    // (The refinement's fit takes back as its targets do.)
+    const bool oneSided = add && !t.emptyAim && !mCoarse;
+    const double aimed = mCoarse ? t.residualNeed : need;
+    if (oneSided && aimed <= predicted) return 0;
+    const double f = t.change + (aimed - predicted) * t.share / norm;
     return oneSided ? std::max(f, 0.0) - t.change : f - t.change;
 }
 
@@ -772,6 +776,7 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
         t.controlPhi = qs.value;
         t.controlGrad = glm::length(qs.gradient);
         t.aim = t.control;
+        t.keepAim = false;
         t.need = iso - t.controlPhi;
         if (mOp == ToolOp::Carve && t.need > 0) {
             // The tool does not reach the old surface along this normal: the old surface
@@ -783,6 +788,14 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
             }
             t.aim = *t.control + qs.gradient * (t.need / (t.controlGrad * t.controlGrad));
             t.need = 0;
+            t.keepAim = true;
+            // The refinement's fit, unclamped, would hold the old surface there even where the
+            // first-order step put it inside the swept tool (beside the slab's edge, deep carves
+            // came out with lumps of clay left in the groove: size 6 at 140 % 0.38 of its depth).
+            if (mCoarse && insideSweptTool(*t.aim, radius)) {
+                t.aim.reset();
+                return;
+            }
             if (glm::length(*t.aim - pos) > 2 * radius + margin) {
                 t.aim.reset();
                 return;
@@ -795,7 +808,15 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
                 std::clamp((g - kFlatCarveBelow) / (kSteepCarveAbove - kFlatCarveBelow), 0.0, 1.0);
             width = kFlatCarveShareWidth + steep * (kFitShareWidth - kFlatCarveShareWidth);
         }
+        // The refinement's lattice is finer than the tool's: a share as wide in its spacings
+        // spreads a correction a quarter as far, and the narrowest is enough (2.5 and 1.5 left
+        // shallow carves on clay of strokes up to 1.32 and 1.29 deep at size 4, 1.0 1.24).
+        if (mCoarse) width = kFitShareWidthRefining;
         t.share = std::max(0.0, (*mTransfer)((*t.aim - pos) / (tl.spacingMm * width)));
+        // What the tool's pass realised at the aim, and the fine weights' shed field there,
+        // are the refinement's to make up (both final: it runs after that pass).
+        if (mCoarse)
+            t.residualNeed = t.need - coarseChangeAt(*t.aim) + kRefineLeak * leakingField(*t.aim);
     };
 
     std::vector<LatticeCoord> touched;  // new, or their closest approach changed
@@ -881,10 +902,11 @@ EditResult StrokeBuilder::addSampleSwept(const Vec3& a, const Vec3& p) {
     // point lies within 2 radius + margin of the vertex. A carve in empty space has no
     // control points and no corrections. (A correction reads the base weights and shares
     // around it, never another correction, so the order does not matter.)
-    // The refinement has no fit: its lattice holds the targets between the tool's vertices,
-    // and the fit's aims, met by the coarse pass already, were counted twice (grooves of 1.3-2.2
-    // their depth, measured).
-    if (!touched.empty() && mAnyControl && !mCoarse) {
+    // The refinement fits too, on what the tool's pass left at each aim (Target::residualNeed):
+    // its targets alone, read at the vertices, carved shallow grooves on the sphere up to 1.12
+    // of their depth across the lattice's diagonal (0.97..1.04 with the fit). (Fitted on the
+    // whole need, the aims the tool's pass had met were counted twice: grooves 1.3-2.2 deep.)
+    if (!touched.empty() && mAnyControl) {
         // The aim lies within 2 radius + margin of the vertex (the tool's extreme point, or
         // the old surface next to a carve, dropped beyond).
         const double aimReach = 2 * radius + margin;
@@ -957,16 +979,35 @@ std::vector<SkeletonChange> StrokeBuilder::takeChanges() {
 }
 
 int StrokeBuilder::refineLattice() const {
-    return mLattice - mSculpture.config().refineLevels;
+    // As many of the k levels as there are: size 2 at k = 2 refines on level 1.
+    return std::max(1, mLattice - mSculpture.config().refineLevels);
 }
 
 bool StrokeBuilder::refinable() const {
-    // All k levels or none: a refinement fewer levels down than asked is worse than none
-    // (size 2 at k = 2, refined on level 1 only: 20 % carves on the sphere 0.78 of their depth,
-    // 0.95 unrefined; chains of size-1/2 spines came apart in two pieces).
+    // Sizes with fewer than k levels below refine on those there are. (Before the refinement
+    // had its own fit, one level down was worse than none: size 2 at k = 2 carved 20 % grooves
+    // on the sphere 0.78 of their depth, 0.95 unrefined. With it, 0.95..1.06, and on clay of
+    // strokes 0.93..1.13 against 0.98..1.27.) Level 1 has none.
     return mOp != ToolOp::Smooth && !mCoarse &&
            mSculpture.config().placement == PlacementMode::Swept &&
-           mSculpture.config().refineLevels > 0 && refineLattice() >= 1;
+           mSculpture.config().refineLevels > 0 && refineLattice() < mLattice;
+}
+
+bool StrokeBuilder::insideSweptTool(const Vec3& x, double radius) const {
+    const std::vector<Vec3>& path = mCoarse ? mCoarse->mPath : mPath;
+    auto near = [&](const Vec3& a, const Vec3& b) {
+        const Vec3 ab = b - a;
+        const double len2 = glm::dot(ab, ab);
+        const double tau = len2 > 0 ? std::clamp(glm::dot(x - a, ab) / len2, 0.0, 1.0) : 0.0;
+        return glm::length(x - (a + tau * ab)) < radius;
+    };
+    for (size_t i = 0; i < path.size(); ++i) {
+        const Vec3& a = path[i == 0 ? 0 : i - 1];
+        if (near(a, path[i])) return true;
+        if (mMirror != MirrorAxis::None && near(mirrored(a, mMirror), mirrored(path[i], mMirror)))
+            return true;
+    }
+    return false;
 }
 
 bool StrokeBuilder::refines() const {

@@ -246,8 +246,10 @@ class StrokeBuilder {
         // correction aimed there.
         std::optional<Vec3> aim;
         double need = 0;
+        double residualNeed = 0;  // refinement: need less the tool's pass's realised change
         double share = 0;
         bool emptyAim = false;  // the aim is the tool's surface in empty space
+        bool keepAim = false;   // the aim is the old surface beyond a carve that misses it
         // The last sample that put this target in each of its sets (base weight to recompute,
         // fit to recompute, weight to write): each joins a set once per sample.
         uint32_t baseMark = 0, fitMark = 0, affectedMark = 0;
@@ -255,6 +257,9 @@ class StrokeBuilder {
     // The correction of a vertex's target that brings the new surface to the aim points
     // around it (docs/placement.md, closed-loop fit).
     double fitCorrection(const Target& t);
+    // Whether x lies inside the tool (radius, mm) swept along the whole stroke's path (the
+    // coarse pass's, for a refinement), or its mirror image.
+    bool insideSweptTool(const Vec3& x, double radius) const;
     double mDeconvolveReach = 0;  // the longest tap offset, lattice spacings
     bool mAnyControl = false;     // some target of this stroke has a control point
     uint32_t mSampleMark = 0;     // the current sample's number (Target's marks)

@@ -623,7 +623,8 @@ void checkImportFile(const std::filesystem::path& path, const ImportOptions& opt
         text << in.rdbuf();
         const std::string json = text.str();
         try {
-            (void)nlohmann::json::parse(json);
+            const nlohmann::json parsed = nlohmann::json::parse(json);
+            (void)parsed;  // only whether it parses, and where it does not
         } catch (const nlohmann::json::parse_error& e) {
             const size_t at = std::min<size_t>(e.byte > 0 ? e.byte - 1 : 0, json.size());
             const size_t line = size_t(std::count(json.begin(), json.begin() + long(at), '\n')) + 1;

@@ -137,10 +137,11 @@ TEST(FieldEval, InitialSphereIsExact) {
                 EXPECT_LT(glm::length(g), coreSlope + 1.2 * plainSlope);
             }
         }
-        if (coreWeight == SculptConfig{}.sphereCoreWeight)  // 1.87x the plain sphere's slope
+        if (coreWeight == SculptConfig{}.sphereCoreWeight) {  // 1.87x the plain sphere's slope
             EXPECT_NEAR(glm::length(probe.sample(cfg.sphereCenterMm + Vec3(40, 0, 0)).gradient) /
                             plainSlope,
                         1.87, 0.01);
+        }
         EXPECT_EQ(probe.value(Vec3(1000, 0, 0)), -cfg.iso);
         EXPECT_EQ(s.counts().total(), coreWeight > 0 ? 2u : 1u);
     }

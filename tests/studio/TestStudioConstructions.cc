@@ -280,7 +280,9 @@ TEST(StudioConstructions, AScriptDrawsTheSameWhateverThePagesView) {
             studio.page().setView(v);
         }
         run(studio, outline + "role outline last\nsolid inflate\n");
-        if (windowView) EXPECT_EQ(studio.page().view().offset.x, -80.3);  // the view stays
+        if (windowView) {
+            EXPECT_EQ(studio.page().view().offset.x, -80.3);  // the view stays
+        }
         return std::make_pair(studio.page().content().strokes,
                               core::canonicalMeshHash(studio.session().wholeMesh(1.0)));
     };

@@ -257,6 +257,15 @@ class StrokeBuilder {
     // The correction of a vertex's target that brings the new surface to the aim points
     // around it (docs/placement.md, closed-loop fit).
     double fitCorrection(const Target& t);
+    // The refinement fits once, after all its samples (fitDeferred), not at each sample.
+    bool mDeferFit = false;
+    std::vector<LatticeCoord> mTargetCoords;  // every target, while the fit is deferred
+    void fitDeferred();
+    // Adding never lowers the field and carving never raises it (the refinement does both).
+    double clampToOp(double w) const;
+    // The weights of `affected` (sorted here): base plus deconvolved corrections, written or
+    // held back.
+    EditResult writeWeights(std::vector<LatticeCoord>& affected);
     // Whether x lies inside the tool (radius, mm) swept along the whole stroke's path (the
     // coarse pass's, for a refinement), or its mirror image.
     bool insideSweptTool(const Vec3& x, double radius) const;

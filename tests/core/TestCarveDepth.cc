@@ -187,9 +187,25 @@ Stats clayStroke(Sculpture* s, ToolOp op, int level, double pen, double angleDeg
         const double got = op == ToolOp::Carve ? before[i] - h : h - before[i];
         const double nominal = op == ToolOp::Carve ? pen * rho : (2 - pen) * rho;
         st.add(1 + (got - std::max(0.0, expected)) / nominal);
-        if (std::getenv("VSCULPT_PROBE_PRINT"))
-            std::printf("  probe %2d before %7.3f expected %6.3f got %6.3f  ratio %.3f\n", i,
+        if (std::getenv("VSCULPT_PROBE_PRINT")) {
+            // The stroke's change of the field at the old surface there, lattice by lattice.
+            std::map<int, double> byLevel;
+            const Vec3 at(q.x, q.y, before[i]);
+            for (const SkeletonChange& c : changes) {
+                const ToolLevel& cl = s->levels().level(c.level);
+                const Vec3 v = Vec3(c.coord.x, c.coord.y, c.coord.z) * cl.spacingMm;
+                const double d = glm::length(at - v);
+                if (d >= cl.supportMm) continue;
+                byLevel[c.level] +=
+                    (double(c.after.value_or(0.0f)) - double(c.before.value_or(0.0f))) *
+                    s->levels().falloff().value(d / cl.supportMm);
+            }
+            std::printf("  probe %2d before %7.3f expected %6.3f got %6.3f  ratio %.3f  change", i,
                         before[i], expected, got, 1 + (got - std::max(0.0, expected)) / nominal);
+            for (const auto& [l, c] : byLevel)
+                std::printf("  L%d %+.4f", l, c);
+            std::printf("\n");
+        }
     }
     revertChanges(*s, changes);
     return st;

@@ -425,6 +425,14 @@ SculptConfig parseConfigText(std::string_view jsonText, const std::string& sourc
             placement.fail("placement.refine_levels", "expected an integer 0..2, got " + v->dump());
         cfg.refineLevels = v->get<int>();
     }
+    // Together they refine up to four levels below the tool: never measured, and adds and
+    // carves alternating over one spot leave the field's bound there (docs/placement.md, "What
+    // making it the default would take"). A project that was made so still opens as it was.
+    if (!stored && cfg.finerLatticeLevels > 0 && cfg.refineLevels > 0)
+        placement.fail("placement.refine_levels",
+                       "cannot be combined with placement.finer_lattice_levels (" +
+                           std::to_string(cfg.finerLatticeLevels) +
+                           "): set one of them to 0 (docs/placement.md)");
     if (stored && !placement.find("smooth_keeps_volume")) cfg.smoothKeepsVolume = false;
     if (const json* v = placement.find("smooth_keeps_volume")) {
         if (!v->is_boolean())

@@ -162,6 +162,16 @@ TEST(Config, AStoredConfigWithoutTheSpheresCoreKeepsTheOneSkeletonSphere) {
                  ConfigError);
 }
 
+// A user's config may not combine placement.finer_lattice_levels with refine_levels
+// (BadValuesNameTheKeyAndReason), but a project made with both before that opens as it was.
+TEST(Config, AStoredConfigWithBothFinerLatticeAndRefinementOpensAsItWasMade) {
+    const std::string both = R"({"placement": {"finer_lattice_levels": 2, "refine_levels": 1}})";
+    const SculptConfig c = parseStoredConfig(both, "p/snapshot (stored config)");
+    EXPECT_EQ(c.finerLatticeLevels, 2);
+    EXPECT_EQ(c.refineLevels, 1);
+    EXPECT_THROW(parseConfig(both, "user.json"), ConfigError);
+}
+
 // The smooth tool's volume correction came after projects that smoothed with the plain
 // diffusion: those replay with it, new ones and users' configs get the correction.
 TEST(Config, AStoredConfigWithoutTheSmoothVolumeKeyKeepsThePlainDiffusion) {
@@ -352,6 +362,9 @@ TEST(Config, BadValuesNameTheKeyAndReason) {
          "placement.refine_levels: expected an integer 0..2, got -1"},
         {R"({"placement": {"refine_levels": "2"}})",
          "placement.refine_levels: expected an integer 0..2, got \"2\""},
+        {R"({"placement": {"finer_lattice_levels": 2, "refine_levels": 1}})",
+         "placement.refine_levels: cannot be combined with placement.finer_lattice_levels (2): "
+         "set one of them to 0"},
         {R"({"placement": {"finer_lattice_levels": 1.5}})",
          "placement.finer_lattice_levels: expected an integer 0..2"},
         // Integers beyond int's range are refused, not wrapped (4294967296 used to read as 0).
